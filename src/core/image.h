@@ -1,0 +1,53 @@
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "core/error.h"
+#include "core/math.h"
+
+namespace vf {
+
+// Non-owning view of a row-major image; what kernels receive (host or device pointer).
+template <class T>
+struct ImageView {
+  T* data = nullptr;
+  int width = 0, height = 0;
+
+  VF_HD T& operator()(int x, int y) const { return data[y * width + x]; }
+  VF_HD T& operator[](int i) const { return data[i]; }
+  VF_HD int size() const { return width * height; }
+  VF_HD bool inside(int x, int y) const { return x >= 0 && y >= 0 && x < width && y < height; }
+};
+
+// Host-owned image.
+template <class T>
+class Image {
+ public:
+  Image() = default;
+  Image(int width, int height, T fill = T{}) { resize(width, height, fill); }
+  void resize(int width, int height, T fill = T{}) {
+    if (width < 0 || height < 0) throw Error("image size must not be negative");
+    width_ = width;
+    height_ = height;
+    pixels_.assign(size_t(width) * size_t(height), fill);
+  }
+  int width() const { return width_; }
+  int height() const { return height_; }
+  bool empty() const { return pixels_.empty(); }
+  T* data() { return pixels_.data(); }
+  const T* data() const { return pixels_.data(); }
+  T& operator()(int x, int y) { return pixels_[size_t(y) * width_ + x]; }
+  const T& operator()(int x, int y) const { return pixels_[size_t(y) * width_ + x]; }
+  ImageView<T> view() { return {pixels_.data(), width_, height_}; }
+  ImageView<const T> view() const { return {pixels_.data(), width_, height_}; }
+
+ private:
+  int width_ = 0, height_ = 0;
+  std::vector<T> pixels_;
+};
+
+using DepthImage = Image<float>;   // metres, 0 = no reading
+using ColorImage = Image<Rgb8>;    // sRGB 8 bit
+using LabelImage = Image<uint16_t>;  // class id per pixel
+
+}  // namespace vf
