@@ -1,0 +1,71 @@
+#pragma once
+// The scene document: the sparse OpenVDB grids fusion produces and the editor works on
+// (DESIGN.md, "The scene document"). OpenVDB stays behind SceneGrids (vdb/scene_grids.h) so that
+// the app and other modules include this header without compiling OpenVDB templates.
+#include <cstddef>
+#include <memory>
+#include <string>
+
+#include "core/class_table.h"
+
+namespace vf {
+
+class DenseVolume;
+struct SceneGrids;  // OpenVDB grids; defined in vdb/scene_grids.h, only src/vdb includes it
+
+// What the .vdb file records besides the grids.
+struct SceneMetadata {
+  float voxel_size_m = 0;
+  float truncation_m = 0;
+  ClassTable classes;             // id -> name/color; empty when fused without labels
+  std::string source;             // e.g. the input folder or capture file
+  int frame_count = 0;            // frames fused
+  std::string software_version;   // empty = this build's VDBFUSE_VERSION_STRING when written
+};
+
+// Grid names in the file (DESIGN.md table).
+inline constexpr const char* kTsdfGridName = "tsdf";
+inline constexpr const char* kWeightGridName = "weight";
+inline constexpr const char* kColorGridName = "color";
+inline constexpr const char* kClassGridName = "class";
+inline constexpr const char* kClassConfidenceGridName = "class_confidence";
+// Value of the class grid where no class was fused.
+inline constexpr int kSceneUnknownClass = -1;
+
+// Grids + metadata. Move-only: an edit works on an explicit clone() so the input stays intact.
+class Scene {
+ public:
+  Scene();
+  ~Scene();
+  Scene(Scene&&) noexcept;
+  Scene& operator=(Scene&&) noexcept;
+  Scene(const Scene&) = delete;
+  Scene& operator=(const Scene&) = delete;
+
+  Scene clone() const;  // deep copy of every grid
+  bool hasClasses() const;
+  size_t activeVoxelCount() const;  // active voxels of the tsdf grid
+
+  SceneGrids& grids() { return *grids_; }
+  const SceneGrids& grids() const { return *grids_; }
+
+  SceneMetadata meta;
+
+ private:
+  std::unique_ptr<SceneGrids> grids_;
+};
+
+// Sparse copy of the observed part of a dense volume: only bricks with brick_stamp != 0 and,
+// inside them, voxels with weight > 0 become active. Parallel over bricks.
+// meta.voxel_size_m / truncation_m are taken from the volume (the arguments' values are ignored).
+Scene sceneFromDenseVolume(const DenseVolume& volume, const SceneMetadata& meta);
+
+// Writes grids + metadata to a temp file beside `path` and renames it into place; on error no
+// file is left behind. Throws vf::Error naming the path.
+void writeScene(const Scene& scene, const std::string& path);
+
+// Reads a scene written by writeScene. Throws vf::Error naming the path for a missing,
+// truncated or foreign file, or one without a `tsdf` level set.
+Scene readScene(const std::string& path);
+
+}  // namespace vf
