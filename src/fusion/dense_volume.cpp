@@ -35,8 +35,7 @@ DenseVolume::DenseVolume(const VolumeSpec& spec, bool with_classes) : spec_(spec
     blocks_.push_back({reserveZeroed(bytes), bytes});
     return blocks_.back().ptr;
   };
-  view_.tsdf = static_cast<int16_t*>(take(n * sizeof(int16_t)));
-  view_.weight = static_cast<uint16_t*>(take(n * sizeof(uint16_t)));
+  view_.tsdf = static_cast<TsdfVoxel*>(take(n * sizeof(TsdfVoxel)));
   view_.color = static_cast<Rgb8*>(take(n * sizeof(Rgb8)));
   if (with_classes) view_.class_vote = static_cast<uint32_t*>(take(n * sizeof(uint32_t)));
   view_.brick_stamp = static_cast<uint32_t*>(take(size_t(view_.brickCount()) * sizeof(uint32_t)));
@@ -72,7 +71,7 @@ std::vector<int> DenseVolume::observedBricks() const {
 }
 
 size_t DenseVolume::bytesPerVoxel(bool with_classes) {
-  return sizeof(int16_t) + sizeof(uint16_t) + sizeof(Rgb8) + (with_classes ? sizeof(uint32_t) : 0);
+  return sizeof(TsdfVoxel) + sizeof(Rgb8) + (with_classes ? sizeof(uint32_t) : 0);
 }
 
 void DenseVolume::clear() {
@@ -80,8 +79,7 @@ void DenseVolume::clear() {
   for (Block& b : blocks_) {
     munmap(b.ptr, b.bytes);
     void* p = reserveZeroed(b.bytes);
-    if (b.ptr == view_.tsdf) view_.tsdf = static_cast<int16_t*>(p);
-    else if (b.ptr == view_.weight) view_.weight = static_cast<uint16_t*>(p);
+    if (b.ptr == view_.tsdf) view_.tsdf = static_cast<TsdfVoxel*>(p);
     else if (b.ptr == view_.color) view_.color = static_cast<Rgb8*>(p);
     else if (b.ptr == view_.class_vote) view_.class_vote = static_cast<uint32_t*>(p);
     else view_.brick_stamp = static_cast<uint32_t*>(p);

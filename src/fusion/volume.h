@@ -27,10 +27,16 @@ VF_HD uint32_t packClassVote(uint32_t class_id, uint32_t confidence) {
 VF_HD uint32_t voteClass(uint32_t vote) { return vote & 0xFFFFu; }
 VF_HD uint32_t voteConfidence(uint32_t vote) { return vote >> 16; }
 
+// TSDF and weight side by side (KinectFusion's short2): the raycast and the integration read
+// both for every sample, so one 4-byte load serves both.
+struct TsdfVoxel {
+  int16_t tsdf;     // normalised signed distance (see kTsdfScale), meaningful where weight > 0
+  uint16_t weight;  // number of fused observations (capped), 0 = never seen
+};
+
 // Plain view of the volume's arrays, host or device pointers; passed by value into kernels.
 struct VolumeView {
-  int16_t* tsdf = nullptr;        // normalised signed distance, meaningful where weight > 0
-  uint16_t* weight = nullptr;     // number of fused observations (capped), 0 = never seen
+  TsdfVoxel* tsdf = nullptr;      // tsdf + weight per voxel
   Rgb8* color = nullptr;          // running average color (a unused)
   uint32_t* class_vote = nullptr; // packed class vote; null when semantic fusion is off
   uint32_t* brick_stamp = nullptr;  // per brick: last frame (1-based) that touched it, 0 = never
@@ -67,7 +73,8 @@ struct VolumeView {
     return {(p_world.x - origin_m.x) * inv - 0.5f, (p_world.y - origin_m.y) * inv - 0.5f,
             (p_world.z - origin_m.z) * inv - 0.5f};
   }
-  VF_HD float sdfMetres(size_t index) const { return tsdf[index] * (truncation_m / kTsdfScale); }
+  VF_HD float sdfMetres(size_t index) const { return tsdf[index].tsdf * (truncation_m / kTsdfScale); }
+  VF_HD uint16_t weightAt(size_t index) const { return tsdf[index].weight; }
 };
 
 }  // namespace vf
