@@ -32,6 +32,10 @@ VF_HD Vec3f normalized(Vec3f a) {
   const float n = norm(a);
   return n > 0.f ? a * (1.f / n) : Vec3f{0.f, 0.f, 0.f};
 }
+// Host builds: <cmath> only guarantees std::isfinite (nvcc provides the global one on device).
+#if !defined(__CUDACC__)
+using std::isfinite;
+#endif
 VF_HD bool isFinite(Vec3f a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
 
 // Rotation (row-major) plus translation: p' = R p + t. Named by the frames it maps,
