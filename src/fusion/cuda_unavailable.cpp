@@ -1,0 +1,25 @@
+// The CUDA entry points when vdbfuse is built without CUDA: the CPU path links and runs, and any
+// attempt to use the GPU says why it cannot.
+#ifndef VDBFUSE_WITH_CUDA
+#include "core/error.h"
+#include "fusion/cuda_api.h"
+
+namespace vf::cuda {
+namespace {
+[[noreturn]] void unavailable() {
+  throw Error("this vdbfuse was built without CUDA; use --device cpu");
+}
+}  // namespace
+
+int deviceCount() { return 0; }
+std::string lastErrorDescription() { return "built without CUDA"; }
+void* allocate(size_t) { unavailable(); }
+void release(void*) noexcept {}
+void copyToDevice(void*, const void*, size_t) { unavailable(); }
+void copyToHost(void*, const void*, size_t) { unavailable(); }
+void copyOnDevice(void*, const void*, size_t) { unavailable(); }
+void fillZero(void*, size_t) { unavailable(); }
+void synchronize() {}
+
+}  // namespace vf::cuda
+#endif

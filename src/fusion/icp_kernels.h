@@ -1,0 +1,67 @@
+#pragma once
+// Sensor pose estimation (KinectFusion section 3.5): projective data association against the
+// raycast prediction and the point-to-plane error, eq. (16), linearised around the current
+// estimate. Each pixel contributes one row of the 6x6 normal equations.
+#include "core/image.h"
+#include "core/intrinsics.h"
+
+namespace vf {
+
+// Layout of one reduction row: 21 entries of the upper triangle of J^T W J, 6 of J^T W r,
+// the weighted squared residual, the inlier count, and the count of usable measured pixels
+// (the denominator of the inlier fraction used for tracking-loss detection).
+constexpr int kIcpRowSize = 30;
+
+struct IcpKernel {
+  ImageView<const Vec3f> vertex_cam;   // measured, current camera frame, level l
+  ImageView<const Vec3f> normal_cam;
+  ImageView<const Vec3f> model_vertex; // predicted, world frame, level l
+  ImageView<const Vec3f> model_normal;
+  Intrinsics model_intrinsics;          // camera of the prediction at level l
+  Rigid3f T_world_cam;                  // current estimate
+  Rigid3f T_model_world;                // inverse of the prediction's camera pose
+  float max_distance_m = 0.1f;
+  float min_normal_cos = 0.866f;
+  float huber_m = 0.02f;
+
+  VF_HD bool operator()(int i, float* row) const {
+    const Vec3f v_cam = vertex_cam[i];
+    if (v_cam.z <= 0.f) return false;
+    const Vec3f n_cam = normal_cam[i];
+    if (n_cam.x == 0.f && n_cam.y == 0.f && n_cam.z == 0.f) return false;
+    for (int k = 0; k < 29; ++k) row[k] = 0.f;
+    row[29] = 1.f;  // a usable measurement, matched or not
+    correspond(v_cam, n_cam, row);
+    return true;
+  }
+
+  // Fills row[0..28] when the measurement finds a model partner that passes both rejections.
+  VF_HD void correspond(Vec3f v_cam, Vec3f n_cam, float* row) const {
+    const Vec3f v = T_world_cam * v_cam;
+    const Vec3f n = T_world_cam.rotate(n_cam);
+    float u, w;
+    if (!model_intrinsics.project(T_model_world * v, u, w)) return;
+    const int px = int(floorf(u + 0.5f)), py = int(floorf(w + 0.5f));
+    if (!model_vertex.inside(px, py)) return;
+    const Vec3f mv = model_vertex(px, py);
+    const Vec3f mn = model_normal(px, py);
+    if (mn.x == 0.f && mn.y == 0.f && mn.z == 0.f) return;
+    const Vec3f diff = v - mv;
+    if (dot(diff, diff) > max_distance_m * max_distance_m) return;
+    if (dot(n, mn) < min_normal_cos) return;
+    const float r = dot(mn, diff);
+    const float abs_r = fabsf(r);
+    const float weight = abs_r <= huber_m ? 1.f : huber_m / abs_r;
+    // d r / d xi for xi = (omega, t) applied on the left: [v x n, n]
+    const Vec3f a = cross(v, mn);
+    const float J[6] = {a.x, a.y, a.z, mn.x, mn.y, mn.z};
+    int k = 0;
+    for (int p = 0; p < 6; ++p)
+      for (int q = p; q < 6; ++q) row[k++] = weight * J[p] * J[q];
+    for (int p = 0; p < 6; ++p) row[k++] = weight * J[p] * r;
+    row[27] = weight * r * r;
+    row[28] = 1.f;
+  }
+};
+
+}  // namespace vf

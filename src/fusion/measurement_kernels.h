@@ -1,0 +1,101 @@
+#pragma once
+// Surface measurement (KinectFusion section 3.2): bilateral filter, depth pyramid, vertex and
+// normal maps. One functor per rule, run per pixel by either backend.
+#include "core/image.h"
+#include "core/intrinsics.h"
+#include "fusion/fast_math.h"
+
+namespace vf {
+
+// Edge-preserving depth smoothing, eq. (2): weights fall off with pixel distance and depth
+// difference; invalid pixels neither receive nor give.
+struct BilateralFilterKernel {
+  ImageView<const float> depth_in;
+  ImageView<float> depth_out;
+  int radius = 2;
+  float inv_two_sigma_px2 = 0, inv_two_sigma_m2 = 0;
+  float min_depth_m = 0, max_depth_m = 0;
+
+  VF_HD void operator()(int i) const {
+    const int x = i % depth_in.width, y = i / depth_in.width;
+    const float d0 = depth_in[i];
+    if (!(d0 >= min_depth_m && d0 <= max_depth_m)) {
+      depth_out[i] = 0.f;
+      return;
+    }
+    float sum = 0.f, weight_sum = 0.f;
+    const int y0 = y - radius < 0 ? 0 : y - radius, y1 = y + radius >= depth_in.height ? depth_in.height - 1 : y + radius;
+    const int x0 = x - radius < 0 ? 0 : x - radius, x1 = x + radius >= depth_in.width ? depth_in.width - 1 : x + radius;
+    for (int v = y0; v <= y1; ++v) {
+      for (int u = x0; u <= x1; ++u) {
+        const float d = depth_in(u, v);
+        if (!(d >= min_depth_m && d <= max_depth_m)) continue;
+        const float dd = d - d0;
+        const float r2 = float((u - x) * (u - x) + (v - y) * (v - y));
+        const float w = fastExp(-r2 * inv_two_sigma_px2 - dd * dd * inv_two_sigma_m2);
+        sum += w * d;
+        weight_sum += w;
+      }
+    }
+    depth_out[i] = sum / weight_sum;  // weight_sum >= 1 from the centre pixel
+  }
+};
+
+// Half-resolution depth: mean of the 2x2 block's pixels within depth_jump of the first valid one
+// (KinectFusion averages only samples within 3 sigma so edges do not blur across depth jumps).
+struct DownsampleDepthKernel {
+  ImageView<const float> fine;
+  ImageView<float> coarse;
+  float depth_jump_m = 0.09f;
+
+  VF_HD void operator()(int i) const {
+    const int x = i % coarse.width, y = i / coarse.width;
+    float ref = 0.f, sum = 0.f;
+    int count = 0;
+    for (int k = 0; k < 4; ++k) {
+      const float d = fine(2 * x + (k & 1), 2 * y + (k >> 1));
+      if (d <= 0.f) continue;
+      if (count == 0) ref = d;
+      if (fabsf(d - ref) > depth_jump_m) continue;
+      sum += d;
+      ++count;
+    }
+    coarse[i] = count > 0 ? sum / float(count) : 0.f;
+  }
+};
+
+// Back-projection, eq. (3). Invalid pixels get the zero vector (z = 0 marks them).
+struct VertexMapKernel {
+  ImageView<const float> depth;
+  ImageView<Vec3f> vertex;
+  Intrinsics intrinsics;
+
+  VF_HD void operator()(int i) const {
+    const float d = depth[i];
+    const int x = i % depth.width, y = i / depth.width;
+    vertex[i] = d > 0.f ? intrinsics.backProject(float(x), float(y), d) : Vec3f{0.f, 0.f, 0.f};
+  }
+};
+
+// Normals from central differences of the vertex map, eq. (4), oriented towards the camera.
+// A neighbour further than max_jump_m away (a depth edge) invalidates the normal.
+struct NormalMapKernel {
+  ImageView<const Vec3f> vertex;
+  ImageView<Vec3f> normal;
+  float max_jump_m = 0.05f;
+
+  VF_HD void operator()(int i) const {
+    const int x = i % vertex.width, y = i / vertex.width;
+    normal[i] = Vec3f{0.f, 0.f, 0.f};
+    if (x < 1 || y < 1 || x >= vertex.width - 1 || y >= vertex.height - 1) return;
+    const Vec3f c = vertex[i];
+    const Vec3f l = vertex(x - 1, y), r = vertex(x + 1, y), u = vertex(x, y - 1), d = vertex(x, y + 1);
+    if (c.z <= 0.f || l.z <= 0.f || r.z <= 0.f || u.z <= 0.f || d.z <= 0.f) return;
+    if (fabsf(r.z - l.z) > max_jump_m || fabsf(d.z - u.z) > max_jump_m) return;
+    Vec3f n = normalized(cross(r - l, d - u));
+    if (dot(n, c) > 0.f) n = -n;
+    normal[i] = n;
+  }
+};
+
+}  // namespace vf

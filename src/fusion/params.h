@@ -1,0 +1,63 @@
+#pragma once
+// One parameter struct per stage, with in-class defaults; validate() throws vf::Error naming the
+// field and the value. Defaults follow KinectFusion (Newcombe et al. 2011) where it gives values.
+#include <array>
+#include <string>
+
+#include "core/volume_spec.h"
+
+namespace vf {
+
+struct MeasurementParams {
+  float min_depth_m = 0.2f;
+  float max_depth_m = 4.0f;
+  int bilateral_radius_px = 2;       // window (2r+1)^2
+  float bilateral_sigma_px = 3.0f;   // spatial sigma
+  float bilateral_sigma_m = 0.03f;   // depth (range) sigma, eq. (2)
+  float pyramid_depth_jump_m = 0.09f;  // 3 sigma: neighbours further away are not averaged
+  float normal_max_jump_m = 0.05f;     // neighbours further apart (level 0) leave no normal
+  void validate() const;
+};
+
+struct IcpParams {
+  // Iterations per pyramid level, finest first (KinectFusion: 10, 5, 4 coarse to fine).
+  std::array<int, 3> iterations{4, 5, 10};
+  float max_distance_m = 0.10f;       // correspondence distance rejection
+  float max_normal_angle_deg = 30.f;  // correspondence normal-angle rejection
+  float huber_m = 0.02f;              // robust weight threshold on point-to-plane residuals
+  // Tracking-loss detection: the frame is rejected (last good pose kept, not integrated) when
+  float min_inlier_fraction = 0.15f;  // fewer of the valid measured pixels found a partner,
+  float max_rmse_m = 0.03f;           // the point-to-plane RMSE stays above this,
+  float max_translation_m = 0.20f;    // or the camera moved more than this between frames,
+  float max_rotation_deg = 20.f;      // or turned more than this.
+  void validate() const;
+};
+
+struct IntegrationParams {
+  int max_weight = 128;            // running-average cap: the model can still adapt
+  bool integrate_filtered_depth = false;  // KinectFusion fuses the raw depth
+  void validate() const;
+};
+
+struct RaycastParams {
+  float min_step_vox = 0.8f;  // smallest march step in voxels
+  float step_fraction = 0.8f; // step = fraction of the sampled distance (the TSDF bounds it)
+  void validate() const;
+};
+
+struct PipelineParams {
+  VolumeSpec volume;
+  // The world frame is the first camera's. When true the volume is placed as KinectFusion does,
+  // the first camera centred on the volume's front face looking in; otherwise volume.origin_m
+  // (the lowest corner, in metres) is used as given.
+  bool place_like_kinectfusion = true;
+  // Pixels of dynamic classes are grown by this many pixels before they are masked out.
+  int dynamic_mask_dilation_px = 4;
+  MeasurementParams measurement;
+  IcpParams icp;
+  IntegrationParams integration;
+  RaycastParams raycast;
+  void validate() const;
+};
+
+}  // namespace vf

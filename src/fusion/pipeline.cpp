@@ -1,0 +1,399 @@
+#include "fusion/pipeline.h"
+
+#include <Eigen/Cholesky>
+#include <cmath>
+
+#include "core/error.h"
+#include "fusion/buffer.h"
+#include "fusion/icp_kernels.h"
+#include "fusion/integrate_kernels.h"
+#include "fusion/measurement_kernels.h"
+#include "fusion/parallel.h"
+#include "fusion/raycast_kernels.h"
+#include "fusion/semantic_kernels.h"
+
+namespace vf {
+
+constexpr int kLevels = 3;
+
+struct Pipeline::Buffers {
+  ImageBuffer<float> raw_depth;   // as read (metres)
+  ImageBuffer<float> fuse_depth;  // raw depth with dynamic pixels removed
+  ImageBuffer<Rgb8> color;
+  ImageBuffer<uint16_t> labels;
+  ImageBuffer<uint8_t> static_mask;
+  Buffer<uint8_t> is_dynamic;     // per class id
+  ImageBuffer<float> depth[kLevels];
+  ImageBuffer<Vec3f> vertex[kLevels], normal[kLevels];              // measured, camera frame
+  ImageBuffer<Vec3f> model_vertex[kLevels], model_normal[kLevels];  // predicted, world frame
+  ImageBuffer<Rgb8> model_color;
+  Buffer<int> brick_list;
+  Buffer<int> brick_count;
+  // Volume arrays when they live on the GPU (the CPU backend uses host_volume_ directly).
+  Buffer<TsdfVoxel> tsdf;
+  Buffer<Rgb8> voxel_color;
+  Buffer<uint32_t> class_vote;
+  Buffer<uint32_t> brick_stamp;
+};
+
+namespace {
+
+template <class T>
+ImageView<const T> constView(const ImageBuffer<T>& b) {
+  return {b.buffer.data(), b.width, b.height};
+}
+
+// Left-multiplied increment exp(xi) for xi = (omega, v): rotation by the axis-angle omega and
+// translation v.
+Pose twistToPose(const Eigen::Matrix<double, 6, 1>& xi) {
+  Pose delta = Pose::Identity();
+  const Eigen::Vector3d omega = xi.head<3>();
+  const double angle = omega.norm();
+  if (angle > 1e-12) delta.linear() = Eigen::AngleAxisd(angle, omega / angle).toRotationMatrix();
+  delta.translation() = xi.tail<3>();
+  return delta;
+}
+
+double rotationDeg(const Pose& delta) {
+  return Eigen::AngleAxisd(delta.linear()).angle() * 180.0 / M_PI;
+}
+
+}  // namespace
+
+Pipeline::Pipeline(const PipelineParams& params, const Intrinsics& depth_intrinsics, Device device,
+                   bool with_classes)
+    : params_(params), intrinsics_(depth_intrinsics), device_(resolveDevice(device)),
+      with_classes_(with_classes), buffers_(std::make_unique<Buffers>()) {
+  params_.validate();
+  if (!intrinsics_.valid()) throw Error("pipeline: camera intrinsics are not set (fx, fy, size)");
+  if ((intrinsics_.width >> (kLevels - 1)) < 8 || (intrinsics_.height >> (kLevels - 1)) < 8)
+    throw Error("pipeline: depth images of " + std::to_string(intrinsics_.width) + "x" +
+                std::to_string(intrinsics_.height) + " are too small for a 3-level pyramid");
+  VolumeSpec& spec = params_.volume;
+  spec.truncation_m = spec.truncationOrDefault();
+  if (params_.place_like_kinectfusion) {
+    const Vec3f extent = spec.extent_m();
+    spec.origin_m = {-0.5f * extent.x, -0.5f * extent.y, 0.f};
+  }
+  // The host volume: the live volume on the CPU, the download target for CUDA.
+  host_volume_ = DenseVolume(spec, with_classes_);
+  volume_ = host_volume_.view();
+  Buffers& b = *buffers_;
+  const Device d = device_;
+  if (d == Device::Cuda) {
+    const size_t n = spec.voxelCount();
+    b.tsdf.allocate(d, n);
+    b.voxel_color.allocate(d, n);
+    if (with_classes_) b.class_vote.allocate(d, n);
+    b.brick_stamp.allocate(d, size_t(volume_.brickCount()));
+    volume_.tsdf = b.tsdf.data();
+    volume_.color = b.voxel_color.data();
+    volume_.class_vote = with_classes_ ? b.class_vote.data() : nullptr;
+    volume_.brick_stamp = b.brick_stamp.data();
+  }
+  const int w = intrinsics_.width, h = intrinsics_.height;
+  b.raw_depth.allocate(d, w, h);
+  b.fuse_depth.allocate(d, w, h);
+  b.color.allocate(d, w, h);
+  b.labels.allocate(d, w, h);
+  b.static_mask.allocate(d, w, h);
+  b.is_dynamic.allocate(d, 65536);
+  for (int l = 0; l < kLevels; ++l) {
+    b.depth[l].allocate(d, w >> l, h >> l);
+    b.vertex[l].allocate(d, w >> l, h >> l);
+    b.normal[l].allocate(d, w >> l, h >> l);
+    b.model_vertex[l].allocate(d, w >> l, h >> l);
+    b.model_normal[l].allocate(d, w >> l, h >> l);
+  }
+  b.model_color.allocate(d, w, h);
+  b.brick_list.allocate(d, size_t(volume_.brickCount()));
+  b.brick_count.allocate(d, 1);
+}
+
+Pipeline::~Pipeline() = default;
+
+void Pipeline::setDynamicClasses(const std::vector<int>& class_ids) {
+  std::vector<uint8_t> table(65536, 0);
+  for (int id : class_ids) {
+    if (id < 0 || id > 65535) throw Error("dynamic class id " + std::to_string(id) + " is out of range");
+    table[size_t(id)] = 1;
+  }
+  buffers_->is_dynamic.upload(table.data(), table.size());
+}
+
+size_t Pipeline::reservedBytes() const {
+  return params_.volume.voxelCount() * DenseVolume::bytesPerVoxel(with_classes_);
+}
+
+void Pipeline::measure(const RgbdFrame& frame) {
+  ScopedStage stage(timer_, "measure");
+  Buffers& b = *buffers_;
+  const int w = intrinsics_.width, h = intrinsics_.height;
+  if (frame.depth.width() != w || frame.depth.height() != h)
+    throw Error("frame " + frame.name + ": depth is " + std::to_string(frame.depth.width()) + "x" +
+                std::to_string(frame.depth.height()) + ", the camera is " + std::to_string(w) + "x" +
+                std::to_string(h));
+  b.raw_depth.buffer.upload(frame.depth.data(), size_t(w) * h);
+  if (!frame.color.empty()) {
+    if (frame.color.width() != w || frame.color.height() != h)
+      throw Error("frame " + frame.name + ": color size differs from depth size");
+    b.color.buffer.upload(frame.color.data(), size_t(w) * h);
+  }
+  has_labels_ = !frame.labels.empty();
+  ImageView<const float> depth_for_geometry = constView(b.raw_depth);
+  if (has_labels_) {
+    if (frame.labels.width() != w || frame.labels.height() != h)
+      throw Error("frame " + frame.name + ": label map size differs from depth size");
+    b.labels.buffer.upload(frame.labels.data(), size_t(w) * h);
+    parallelFor(device_, w * h,
+                DynamicMaskKernel{constView(b.labels), b.is_dynamic.data(),
+                                  params_.dynamic_mask_dilation_px, b.static_mask.view()});
+    parallelFor(device_, w * h,
+                ApplyMaskKernel{constView(b.raw_depth), constView(b.static_mask), b.fuse_depth.view()});
+    depth_for_geometry = constView(b.fuse_depth);
+  }
+  const MeasurementParams& m = params_.measurement;
+  BilateralFilterKernel bilateral;
+  bilateral.depth_in = depth_for_geometry;
+  bilateral.depth_out = b.depth[0].view();
+  bilateral.radius = m.bilateral_radius_px;
+  bilateral.inv_two_sigma_px2 = 1.f / (2.f * m.bilateral_sigma_px * m.bilateral_sigma_px);
+  bilateral.inv_two_sigma_m2 = 1.f / (2.f * m.bilateral_sigma_m * m.bilateral_sigma_m);
+  bilateral.min_depth_m = m.min_depth_m;
+  bilateral.max_depth_m = m.max_depth_m;
+  parallelFor(device_, w * h, bilateral);
+  for (int l = 1; l < kLevels; ++l)
+    parallelFor(device_, b.depth[l].size(),
+                DownsampleDepthKernel{constView(b.depth[l - 1]), b.depth[l].view(), m.pyramid_depth_jump_m});
+  for (int l = 0; l < kLevels; ++l) {
+    parallelFor(device_, b.depth[l].size(),
+                VertexMapKernel{constView(b.depth[l]), b.vertex[l].view(), intrinsics_.atLevel(l)});
+    parallelFor(device_, b.depth[l].size(),
+                NormalMapKernel{constView(b.vertex[l]), b.normal[l].view(), m.normal_max_jump_m * float(1 << l)});
+  }
+}
+
+FrameResult Pipeline::track(const Pose& initial_guess) {
+  ScopedStage stage(timer_, "track");
+  Buffers& b = *buffers_;
+  const IcpParams& p = params_.icp;
+  FrameResult result;
+  Pose T = initial_guess;
+  const Rigid3f T_model_world = toRigid3f(T_world_model_.inverse());
+  std::array<double, kIcpRowSize> sums{};
+  for (int l = kLevels - 1; l >= 0; --l) {
+    IcpKernel icp;
+    icp.vertex_cam = constView(b.vertex[l]);
+    icp.normal_cam = constView(b.normal[l]);
+    icp.model_vertex = constView(b.model_vertex[l]);
+    icp.model_normal = constView(b.model_normal[l]);
+    icp.model_intrinsics = intrinsics_.atLevel(l);
+    icp.T_model_world = T_model_world;
+    icp.max_distance_m = p.max_distance_m;
+    icp.min_normal_cos = std::cos(p.max_normal_angle_deg * float(M_PI) / 180.f);
+    icp.huber_m = p.huber_m;
+    for (int it = 0; it < p.iterations[l]; ++it) {
+      icp.T_world_cam = toRigid3f(T);
+      sums = parallelReduce<kIcpRowSize>(device_, b.vertex[l].size(), icp);
+      if (sums[28] < 6) break;
+      Eigen::Matrix<double, 6, 6> A;
+      Eigen::Matrix<double, 6, 1> rhs;
+      int k = 0;
+      for (int r = 0; r < 6; ++r)
+        for (int c = r; c < 6; ++c) A(r, c) = A(c, r) = sums[k++];
+      for (int r = 0; r < 6; ++r) rhs(r) = -sums[k++];
+      const Eigen::Matrix<double, 6, 1> xi = A.ldlt().solve(rhs);
+      if (!xi.allFinite()) break;
+      T = twistToPose(xi) * T;
+      if (xi.head<3>().norm() < 1e-6 && xi.tail<3>().norm() < 1e-6) break;  // converged
+    }
+  }
+  // Final statistics at the finest level, for tracking-loss detection.
+  {
+    IcpKernel icp;
+    icp.vertex_cam = constView(b.vertex[0]);
+    icp.normal_cam = constView(b.normal[0]);
+    icp.model_vertex = constView(b.model_vertex[0]);
+    icp.model_normal = constView(b.model_normal[0]);
+    icp.model_intrinsics = intrinsics_;
+    icp.T_model_world = T_model_world;
+    icp.max_distance_m = p.max_distance_m;
+    icp.min_normal_cos = std::cos(p.max_normal_angle_deg * float(M_PI) / 180.f);
+    icp.huber_m = p.huber_m;
+    icp.T_world_cam = toRigid3f(T);
+    sums = parallelReduce<kIcpRowSize>(device_, b.vertex[0].size(), icp);
+  }
+  result.icp_inliers = int(sums[28]);
+  result.icp_rmse_m = sums[28] > 0 ? float(std::sqrt(sums[27] / sums[28])) : 0.f;
+  result.T_world_cam = T;
+  // The fraction is relative to the measured pixels that have a normal (what ICP can use).
+  const int measured = int(sums[29]);
+  result.icp_inlier_fraction = measured > 0 ? float(result.icp_inliers) / float(measured) : 0.f;
+  const Pose motion = T_world_cam_.inverse() * T;
+  char why[160] = "";
+  if (measured == 0) std::snprintf(why, sizeof(why), "no valid depth");
+  else if (!T.matrix().allFinite()) std::snprintf(why, sizeof(why), "ICP diverged");
+  else if (result.icp_inlier_fraction < p.min_inlier_fraction)
+    std::snprintf(why, sizeof(why), "only %.0f%% of pixels matched the model (min %.0f%%)",
+                  100.f * result.icp_inlier_fraction, 100.f * p.min_inlier_fraction);
+  else if (result.icp_rmse_m > p.max_rmse_m)
+    std::snprintf(why, sizeof(why), "residual %.1f mm above %.1f mm", 1e3f * result.icp_rmse_m, 1e3f * p.max_rmse_m);
+  else if (motion.translation().norm() > p.max_translation_m)
+    std::snprintf(why, sizeof(why), "moved %.2f m in one frame", motion.translation().norm());
+  else if (rotationDeg(motion) > p.max_rotation_deg)
+    std::snprintf(why, sizeof(why), "turned %.1f deg in one frame", rotationDeg(motion));
+  result.lost_reason = why;
+  result.tracked = result.lost_reason.empty();
+  return result;
+}
+
+void Pipeline::integrate() {
+  ScopedStage stage(timer_, "integrate");
+  Buffers& b = *buffers_;
+  const uint32_t stamp = uint32_t(frames_processed_ + 1);
+  const Rigid3f T_world_cam = toRigid3f(T_world_cam_);
+  const ImageView<const float> depth =
+      params_.integration.integrate_filtered_depth ? constView(b.depth[0])
+                                                   : (has_labels_ ? constView(b.fuse_depth) : constView(b.raw_depth));
+  // Bricks are marked from the depth that will be fused, plus, with labels, from the dynamic
+  // pixels too so that their class is still voted.
+  MarkBricksKernel mark;
+  mark.depth = has_labels_ ? constView(b.raw_depth) : depth;
+  mark.intrinsics = intrinsics_;
+  mark.T_world_cam = T_world_cam;
+  mark.volume = volume_;
+  mark.stamp = stamp;
+  const int cols = (intrinsics_.width + mark.stride_px - 1) / mark.stride_px;
+  const int rows = (intrinsics_.height + mark.stride_px - 1) / mark.stride_px;
+  parallelFor(device_, cols * rows, mark);
+
+  b.brick_count.zero();
+  parallelFor(device_, volume_.brickCount(),
+              CollectBricksKernel{volume_.brick_stamp, stamp, b.brick_count.data(), b.brick_list.data()});
+  int brick_count = 0;
+  b.brick_count.download(&brick_count, 1);
+
+  IntegrateKernel kernel;
+  kernel.volume = volume_;
+  kernel.bricks = b.brick_list.data();
+  kernel.depth = has_labels_ ? constView(b.raw_depth) : depth;
+  kernel.color = constView(b.color);
+  if (has_labels_) {
+    kernel.labels = constView(b.labels);
+    kernel.static_mask = constView(b.static_mask);
+  }
+  kernel.intrinsics = intrinsics_;
+  kernel.T_cam_world = toRigid3f(T_world_cam_.inverse());
+  kernel.max_weight = params_.integration.max_weight;
+  parallelFor(device_, brick_count * kBrickVoxels, kernel);
+}
+
+void Pipeline::raycast(const Pose& T_world_cam, bool with_color) {
+  Buffers& b = *buffers_;
+  RaycastKernel ray;
+  ray.volume = volume_;
+  ray.intrinsics = intrinsics_;
+  ray.T_world_cam = toRigid3f(T_world_cam);
+  ray.near_m = params_.measurement.min_depth_m;
+  ray.far_m = params_.measurement.max_depth_m + params_.volume.truncation_m;
+  ray.min_step_vox = params_.raycast.min_step_vox;
+  ray.step_fraction = params_.raycast.step_fraction;
+  ray.vertex = b.model_vertex[0].view();
+  ray.normal = b.model_normal[0].view();
+  if (with_color) ray.color = b.model_color.view();
+  parallelFor(device_, b.model_vertex[0].size(), ray);
+  for (int l = 1; l < kLevels; ++l)
+    parallelFor(device_, b.model_vertex[l].size(),
+                DownsamplePredictionKernel{constView(b.model_vertex[l - 1]), constView(b.model_normal[l - 1]),
+                                           b.model_vertex[l].view(), b.model_normal[l].view()});
+}
+
+FrameResult Pipeline::processFrame(const RgbdFrame& frame, PoseSource pose_source) {
+  if (pose_source != PoseSource::Icp && !frame.T_world_cam_given)
+    throw Error("frame " + frame.name + " has no recorded pose; use --poses icp");
+  measure(frame);
+  // The world frame is the first frame's camera; recorded poses are re-expressed in it.
+  std::optional<Pose> given;
+  if (frame.T_world_cam_given) {
+    if (!first_given_pose_) first_given_pose_ = *frame.T_world_cam_given;
+    given = first_given_pose_->inverse() * *frame.T_world_cam_given;
+  }
+  FrameResult result;
+  result.T_world_cam = T_world_cam_;
+  if (frames_processed_ == 0) {
+    T_world_cam_ = given && pose_source != PoseSource::Icp ? *given : Pose::Identity();
+    result.T_world_cam = T_world_cam_;
+  } else if (pose_source == PoseSource::Given) {
+    T_world_cam_ = *given;
+    result.T_world_cam = T_world_cam_;
+  } else {
+    Pose guess = T_world_cam_;
+    if (pose_source == PoseSource::GivenIcp && last_given_pose_)
+      guess = T_world_cam_ * (last_given_pose_->inverse() * *given);
+    result = has_prediction_ ? track(guess) : FrameResult{};
+    if (!has_prediction_) {
+      result.tracked = false;
+      result.lost_reason = "no model prediction yet";
+    }
+    if (result.tracked) T_world_cam_ = result.T_world_cam;
+    else {
+      ++frames_lost_;
+      result.T_world_cam = T_world_cam_;
+    }
+  }
+  if (given) last_given_pose_ = given;
+  if (result.tracked) {
+    integrate();
+    result.integrated = true;
+  }
+  {
+    ScopedStage stage(timer_, "raycast");
+    raycast(T_world_cam_, false);
+    T_world_model_ = T_world_cam_;
+    has_prediction_ = true;
+  }
+  ++frames_processed_;
+  return result;
+}
+
+Prediction Pipeline::predict(bool with_color) { return predictFrom(T_world_cam_, with_color); }
+
+Prediction Pipeline::predictFrom(const Pose& T_world_cam, bool with_color) {
+  Buffers& b = *buffers_;
+  raycast(T_world_cam, with_color);
+  Prediction out;
+  const int w = intrinsics_.width, h = intrinsics_.height;
+  out.vertex_world.resize(w, h);
+  out.normal_world.resize(w, h);
+  b.model_vertex[0].buffer.download(out.vertex_world.data(), size_t(w) * h);
+  b.model_normal[0].buffer.download(out.normal_world.data(), size_t(w) * h);
+  if (with_color) {
+    out.color.resize(w, h);
+    b.model_color.buffer.download(out.color.data(), size_t(w) * h);
+  }
+  // Restore the tracking prediction if a different pose was rendered.
+  if (has_prediction_ && !(T_world_cam.matrix() == T_world_model_.matrix())) raycast(T_world_model_, false);
+  return out;
+}
+
+const DenseVolume& Pipeline::hostVolume() {
+  if (device_ == Device::Cuda) {
+    Buffers& b = *buffers_;
+    const VolumeView& host = host_volume_.view();
+    const size_t n = params_.volume.voxelCount();
+    b.brick_stamp.download(host.brick_stamp, size_t(host.brickCount()));
+    // Copy only the observed bricks: the rest is zero on both sides.
+    std::vector<int> bricks = host_volume_.observedBricks();
+    for (int brick : bricks) {
+      const size_t first = size_t(brick) * kBrickVoxels;
+      cuda::copyToHost(host.tsdf + first, b.tsdf.data() + first, kBrickVoxels * sizeof(TsdfVoxel));
+      cuda::copyToHost(host.color + first, b.voxel_color.data() + first, kBrickVoxels * sizeof(Rgb8));
+      if (host.class_vote)
+        cuda::copyToHost(host.class_vote + first, b.class_vote.data() + first, kBrickVoxels * sizeof(uint32_t));
+    }
+    (void)n;
+  }
+  return host_volume_;
+}
+
+}  // namespace vf

@@ -1,0 +1,61 @@
+#pragma once
+// Reading the TSDF volume at continuous positions: trilinear interpolation that refuses to mix
+// in never-observed voxels (their zero would fake a surface), and the gradient for normals.
+#include "fusion/fast_math.h"
+#include "fusion/volume.h"
+
+namespace vf {
+
+// g: continuous voxel coordinate (integers are voxel centres). Returns false when a corner lies
+// outside the volume or was never observed. out: normalised TSDF in [-1, 1].
+VF_HD bool sampleTsdf(const VolumeView& volume, Vec3f g, float& out) {
+  const float fx0 = floorf(g.x), fy0 = floorf(g.y), fz0 = floorf(g.z);
+  const int x = int(fx0), y = int(fy0), z = int(fz0);
+  if (x < 0 || y < 0 || z < 0 || x + 1 >= volume.dims.x || y + 1 >= volume.dims.y || z + 1 >= volume.dims.z)
+    return false;
+  const float fx = g.x - fx0, fy = g.y - fy0, fz = g.z - fz0;
+  TsdfVoxel c[8];
+  if ((x & 7) != 7 && (y & 7) != 7 && (z & 7) != 7) {
+    // All eight corners in one brick: fixed offsets from the first.
+    const TsdfVoxel* base = volume.tsdf + volume.voxelIndex(x, y, z);
+    c[0] = base[0], c[1] = base[1], c[2] = base[8], c[3] = base[9];
+    c[4] = base[64], c[5] = base[65], c[6] = base[72], c[7] = base[73];
+  } else {
+    for (int k = 0; k < 8; ++k)
+      c[k] = volume.tsdf[volume.voxelIndex(x + (k & 1), y + ((k >> 1) & 1), z + (k >> 2))];
+  }
+  for (int k = 0; k < 8; ++k)
+    if (c[k].weight == 0) return false;
+  const float s = 1.f / kTsdfScale;
+  const float c00 = c[0].tsdf + fx * (c[1].tsdf - c[0].tsdf);
+  const float c10 = c[2].tsdf + fx * (c[3].tsdf - c[2].tsdf);
+  const float c01 = c[4].tsdf + fx * (c[5].tsdf - c[4].tsdf);
+  const float c11 = c[6].tsdf + fx * (c[7].tsdf - c[6].tsdf);
+  const float c0 = c00 + fy * (c10 - c00), c1 = c01 + fy * (c11 - c01);
+  out = (c0 + fz * (c1 - c0)) * s;
+  return true;
+}
+
+// Outward surface normal from central differences of the interpolated TSDF, world axes.
+VF_HD bool tsdfNormal(const VolumeView& volume, Vec3f g, Vec3f& normal) {
+  float xp, xm, yp, ym, zp, zm;
+  if (!sampleTsdf(volume, {g.x + 1.f, g.y, g.z}, xp) || !sampleTsdf(volume, {g.x - 1.f, g.y, g.z}, xm) ||
+      !sampleTsdf(volume, {g.x, g.y + 1.f, g.z}, yp) || !sampleTsdf(volume, {g.x, g.y - 1.f, g.z}, ym) ||
+      !sampleTsdf(volume, {g.x, g.y, g.z + 1.f}, zp) || !sampleTsdf(volume, {g.x, g.y, g.z - 1.f}, zm))
+    return false;
+  const Vec3f grad{xp - xm, yp - ym, zp - zm};
+  const float n = norm(grad);
+  if (!(n > 1e-6f)) return false;
+  normal = grad * (1.f / n);
+  return true;
+}
+
+// Color of the voxel nearest to g, if it has one.
+VF_HD bool nearestColor(const VolumeView& volume, Vec3f g, Rgb8& out) {
+  const int x = int(floorf(g.x + 0.5f)), y = int(floorf(g.y + 0.5f)), z = int(floorf(g.z + 0.5f));
+  if (!volume.contains(x, y, z)) return false;
+  out = volume.color[volume.voxelIndex(x, y, z)];
+  return out.a > 0;
+}
+
+}  // namespace vf
