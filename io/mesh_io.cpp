@@ -1,0 +1,394 @@
+#include "io/mesh_io.h"
+
+#include <assimp/Exporter.hpp>
+#include <assimp/scene.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "core/error.h"
+
+namespace vf {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Temp name beside the target so that the final rename stays on one file system.
+fs::path tempPathFor(const fs::path& target) {
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  if (!fs::is_directory(dir)) throw Error(target.string() + ": output directory does not exist");
+  return dir / ("." + target.filename().string() + ".tmp" + std::to_string(::getpid()));
+}
+
+void commit(const fs::path& tmp, const fs::path& target) {
+  std::error_code ec;
+  fs::rename(tmp, target, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw Error(target.string() + ": cannot move the written file into place: " + ec.message());
+  }
+}
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return s;
+}
+
+// Face groups by vertex class (majority of the three), for OBJ groups and GLB meshes.
+std::map<int32_t, std::vector<size_t>> facesByClass(const TriangleMesh& mesh) {
+  std::map<int32_t, std::vector<size_t>> out;
+  for (size_t f = 0; f < mesh.triangles.size(); ++f) {
+    int32_t id = -1;
+    if (mesh.hasClasses()) {
+      const auto& t = mesh.triangles[f];
+      const int32_t a = mesh.classes[t[0]], b = mesh.classes[t[1]], c = mesh.classes[t[2]];
+      id = (b == c && a != b) ? b : a;
+    }
+    out[id].push_back(f);
+  }
+  return out;
+}
+
+std::string groupName(const ClassTable* classes, int32_t id) {
+  const ClassInfo* c = classes ? classes->findId(id) : nullptr;
+  std::string name = c ? c->name : (id < 0 ? std::string("surface") : "class_" + std::to_string(id));
+  for (char& ch : name)
+    if (std::isspace(static_cast<unsigned char>(ch))) ch = '_';
+  return name;
+}
+
+Rgb8 groupColor(const ClassTable* classes, int32_t id) {
+  const ClassInfo* c = classes ? classes->findId(id) : nullptr;
+  return c ? c->color : Rgb8{255, 255, 255, 255};
+}
+
+void checkMesh(const TriangleMesh& mesh, const std::string& path) {
+  const size_t n = mesh.positions.size();
+  if ((mesh.hasNormals() && mesh.normals.size() != n) || (mesh.hasColors() && mesh.colors.size() != n) ||
+      (mesh.hasClasses() && mesh.classes.size() != n))
+    throw Error(path + ": mesh attribute arrays differ in length from the positions");
+}
+
+}  // namespace
+
+MeshFormat meshFormatFromPath(const std::string& path) {
+  const std::string ext = lower(fs::path(path).extension().string());
+  if (ext == ".ply") return MeshFormat::kPly;
+  if (ext == ".obj") return MeshFormat::kObj;
+  if (ext == ".glb") return MeshFormat::kGlb;
+  throw Error(path + ": unknown mesh format '" + ext + "' (use .ply, .obj or .glb)");
+}
+
+void writeMesh(const TriangleMesh& mesh, const std::string& path, const MeshWriteOptions& options) {
+  const MeshFormat format = meshFormatFromPath(path);
+  if (mesh.triangles.empty() && format != MeshFormat::kPly)
+    throw Error(path + ": a point cloud can only be written as .ply");
+  switch (format) {
+    case MeshFormat::kPly: return writePly(mesh, path, options.with_class_property);
+    case MeshFormat::kObj: return writeObj(mesh, path, options.classes);
+    case MeshFormat::kGlb: return writeGlb(mesh, path, options.classes);
+  }
+}
+
+void writePly(const TriangleMesh& mesh, const std::string& path, bool with_class_property) {
+  checkMesh(mesh, path);
+  if (with_class_property && !mesh.hasClasses())
+    throw Error(path + ": --with-class-property needs a scene with classes");
+  const fs::path tmp = tempPathFor(path);
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    if (!out) throw Error(path + ": cannot create " + tmp.string());
+    out << "ply\nformat binary_little_endian 1.0\ncomment written by vdbfuse\n";
+    out << "element vertex " << mesh.positions.size() << "\n";
+    out << "property float x\nproperty float y\nproperty float z\n";
+    if (mesh.hasNormals()) out << "property float nx\nproperty float ny\nproperty float nz\n";
+    if (mesh.hasColors()) out << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+    if (with_class_property) out << "property int class\n";
+    out << "element face " << mesh.triangles.size() << "\n";
+    out << "property list uchar int vertex_indices\nend_header\n";
+    // One record per vertex, assembled in a buffer (x86 is little endian, as the header says).
+    const size_t stride = 12 + (mesh.hasNormals() ? 12 : 0) + (mesh.hasColors() ? 3 : 0) + (with_class_property ? 4 : 0);
+    std::vector<char> buf(stride * mesh.positions.size());
+    char* p = buf.data();
+    for (size_t v = 0; v < mesh.positions.size(); ++v) {
+      std::memcpy(p, &mesh.positions[v], 12), p += 12;
+      if (mesh.hasNormals()) std::memcpy(p, &mesh.normals[v], 12), p += 12;
+      if (mesh.hasColors()) {
+        *p++ = char(mesh.colors[v].r);
+        *p++ = char(mesh.colors[v].g);
+        *p++ = char(mesh.colors[v].b);
+      }
+      if (with_class_property) std::memcpy(p, &mesh.classes[v], 4), p += 4;
+    }
+    out.write(buf.data(), std::streamsize(buf.size()));
+    buf.assign(13 * mesh.triangles.size(), 0);
+    p = buf.data();
+    for (const auto& t : mesh.triangles) {
+      *p++ = 3;
+      std::memcpy(p, t.data(), 12), p += 12;
+    }
+    out.write(buf.data(), std::streamsize(buf.size()));
+    out.close();
+    if (!out) {
+      fs::remove(tmp);
+      throw Error(path + ": write failed (disk full?)");
+    }
+  }
+  commit(tmp, path);
+}
+
+void writeObj(const TriangleMesh& mesh, const std::string& path, const ClassTable* classes) {
+  checkMesh(mesh, path);
+  const fs::path target(path);
+  fs::path mtl_target = target;
+  mtl_target.replace_extension(".mtl");
+  const fs::path tmp = tempPathFor(target), mtl_tmp = tempPathFor(mtl_target);
+  const auto groups = facesByClass(mesh);
+  {
+    std::ofstream mtl(mtl_tmp);
+    for (const auto& [id, faces] : groups) {
+      const Rgb8 c = groupColor(classes, id);
+      mtl << "newmtl " << groupName(classes, id) << "\nKd " << c.r / 255.f << " " << c.g / 255.f << " "
+          << c.b / 255.f << "\n\n";
+    }
+    std::ofstream out(tmp);
+    if (!out || !mtl) throw Error(path + ": cannot create " + tmp.string());
+    out << "# written by vdbfuse\nmtllib " << mtl_target.filename().string() << "\n";
+    char line[160];
+    // Vertex colors as the common "v x y z r g b" extension (Assimp, MeshLab, Blender read it).
+    for (size_t v = 0; v < mesh.positions.size(); ++v) {
+      const Vec3f& q = mesh.positions[v];
+      if (mesh.hasColors()) {
+        const Rgb8 c = mesh.colors[v];
+        std::snprintf(line, sizeof line, "v %.6f %.6f %.6f %.4f %.4f %.4f\n", q.x, q.y, q.z, c.r / 255.f,
+                      c.g / 255.f, c.b / 255.f);
+      } else {
+        std::snprintf(line, sizeof line, "v %.6f %.6f %.6f\n", q.x, q.y, q.z);
+      }
+      out << line;
+    }
+    for (const Vec3f& n : mesh.normals) {
+      std::snprintf(line, sizeof line, "vn %.5f %.5f %.5f\n", n.x, n.y, n.z);
+      out << line;
+    }
+    for (const auto& [id, faces] : groups) {
+      out << "g " << groupName(classes, id) << "\nusemtl " << groupName(classes, id) << "\n";
+      for (size_t f : faces) {
+        const auto& t = mesh.triangles[f];
+        if (mesh.hasNormals())
+          std::snprintf(line, sizeof line, "f %d//%d %d//%d %d//%d\n", t[0] + 1, t[0] + 1, t[1] + 1, t[1] + 1,
+                        t[2] + 1, t[2] + 1);
+        else
+          std::snprintf(line, sizeof line, "f %d %d %d\n", t[0] + 1, t[1] + 1, t[2] + 1);
+        out << line;
+      }
+    }
+    out.close();
+    mtl.close();
+    if (!out || !mtl) {
+      fs::remove(tmp);
+      fs::remove(mtl_tmp);
+      throw Error(path + ": write failed (disk full?)");
+    }
+  }
+  commit(mtl_tmp, mtl_target);
+  commit(tmp, target);
+}
+
+void writeGlb(const TriangleMesh& mesh, const std::string& path, const ClassTable* classes) {
+  checkMesh(mesh, path);
+  const auto groups = facesByClass(mesh);
+  // Assimp's aiScene owns (and deletes) everything hung on it.
+  aiScene scene;
+  scene.mRootNode = new aiNode("vdbfuse_scene");
+  scene.mNumMeshes = scene.mNumMaterials = unsigned(groups.size());
+  scene.mMeshes = new aiMesh*[groups.size()];
+  scene.mMaterials = new aiMaterial*[groups.size()];
+  scene.mRootNode->mNumMeshes = unsigned(groups.size());
+  scene.mRootNode->mMeshes = new unsigned[groups.size()];
+  unsigned m = 0;
+  for (const auto& [id, faces] : groups) {
+    auto* material = new aiMaterial();
+    const aiString name(groupName(classes, id));
+    material->AddProperty(&name, AI_MATKEY_NAME);
+    const Rgb8 c = groupColor(classes, id);
+    const aiColor4D diffuse(c.r / 255.f, c.g / 255.f, c.b / 255.f, 1.f);
+    material->AddProperty(&diffuse, 1, AI_MATKEY_COLOR_DIFFUSE);
+    scene.mMaterials[m] = material;
+
+    // Each group gets its own compact vertex array (glTF primitives do not share vertices).
+    std::vector<int32_t> remap(mesh.positions.size(), -1);
+    std::vector<int32_t> used;
+    for (size_t f : faces)
+      for (int32_t v : mesh.triangles[f])
+        if (remap[v] < 0) remap[v] = int32_t(used.size()), used.push_back(v);
+    auto* am = new aiMesh();
+    am->mName = name;
+    am->mMaterialIndex = m;
+    am->mPrimitiveTypes = aiPrimitiveType_TRIANGLE;
+    am->mNumVertices = unsigned(used.size());
+    am->mVertices = new aiVector3D[used.size()];
+    if (mesh.hasNormals()) am->mNormals = new aiVector3D[used.size()];
+    if (mesh.hasColors()) am->mColors[0] = new aiColor4D[used.size()];
+    for (size_t i = 0; i < used.size(); ++i) {
+      const Vec3f& p = mesh.positions[used[i]];
+      am->mVertices[i] = aiVector3D(p.x, p.y, p.z);
+      if (mesh.hasNormals()) {
+        const Vec3f& n = mesh.normals[used[i]];
+        am->mNormals[i] = aiVector3D(n.x, n.y, n.z);
+      }
+      if (mesh.hasColors()) {
+        const Rgb8 col = mesh.colors[used[i]];
+        am->mColors[0][i] = aiColor4D(col.r / 255.f, col.g / 255.f, col.b / 255.f, 1.f);
+      }
+    }
+    am->mNumFaces = unsigned(faces.size());
+    am->mFaces = new aiFace[faces.size()];
+    for (size_t i = 0; i < faces.size(); ++i) {
+      aiFace& face = am->mFaces[i];
+      face.mNumIndices = 3;
+      face.mIndices = new unsigned[3];
+      for (int k = 0; k < 3; ++k) face.mIndices[k] = unsigned(remap[mesh.triangles[faces[i]][k]]);
+    }
+    scene.mMeshes[m] = am;
+    scene.mRootNode->mMeshes[m] = m;
+    ++m;
+  }
+  const fs::path tmp = tempPathFor(path);
+  Assimp::Exporter exporter;
+  if (exporter.Export(&scene, "glb2", tmp.string()) != AI_SUCCESS) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw Error(path + ": GLB export failed: " + exporter.GetErrorString());
+  }
+  commit(tmp, path);
+}
+
+namespace {
+
+struct PlyProperty {
+  std::string name, type, count_type;  // count_type set for list properties
+  bool is_list = false;
+};
+struct PlyElement {
+  std::string name;
+  size_t count = 0;
+  std::vector<PlyProperty> props;
+};
+
+size_t plyTypeSize(const std::string& t, const std::string& path) {
+  if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
+  if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
+  if (t == "int" || t == "uint" || t == "float" || t == "int32" || t == "uint32" || t == "float32") return 4;
+  if (t == "double" || t == "float64") return 8;
+  throw Error(path + ": unknown PLY property type '" + t + "'");
+}
+
+double plyRead(const char* p, const std::string& t) {
+  auto get = [p](auto v) {
+    std::memcpy(&v, p, sizeof v);
+    return double(v);
+  };
+  if (t == "char" || t == "int8") return get(int8_t{});
+  if (t == "uchar" || t == "uint8") return get(uint8_t{});
+  if (t == "short" || t == "int16") return get(int16_t{});
+  if (t == "ushort" || t == "uint16") return get(uint16_t{});
+  if (t == "int" || t == "int32") return get(int32_t{});
+  if (t == "uint" || t == "uint32") return get(uint32_t{});
+  if (t == "float" || t == "float32") return get(float{});
+  return get(double{});
+}
+
+}  // namespace
+
+TriangleMesh readPly(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(path + ": cannot open PLY file");
+  std::string line, format;
+  std::getline(in, line);
+  if (line != "ply" && line != "ply\r") throw Error(path + ": not a PLY file");
+  std::vector<PlyElement> elements;
+  while (std::getline(in, line)) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream ls(line);
+    std::string word;
+    ls >> word;
+    if (word == "format") ls >> format;
+    else if (word == "element") {
+      elements.emplace_back();
+      ls >> elements.back().name >> elements.back().count;
+    } else if (word == "property") {
+      if (elements.empty()) throw Error(path + ": PLY property before any element");
+      PlyProperty prop;
+      ls >> prop.type;
+      if (prop.type == "list") {
+        prop.is_list = true;
+        ls >> prop.count_type >> prop.type;
+      }
+      ls >> prop.name;
+      elements.back().props.push_back(prop);
+    } else if (word == "end_header") break;
+  }
+  if (format != "binary_little_endian" && format != "ascii")
+    throw Error(path + ": PLY format '" + format + "' is not supported (binary_little_endian or ascii)");
+  const bool ascii = format == "ascii";
+  TriangleMesh mesh;
+  for (const PlyElement& el : elements) {
+    const bool is_vertex = el.name == "vertex", is_face = el.name == "face";
+    for (size_t i = 0; i < el.count; ++i) {
+      Vec3f pos{0, 0, 0}, nrm{0, 0, 0};
+      Rgb8 col{0, 0, 0, 255};
+      int32_t cls = -1;
+      bool has_n = false, has_c = false, has_k = false;
+      for (const PlyProperty& prop : el.props) {
+        auto value = [&](const std::string& type) {
+          if (ascii) {
+            double d;
+            if (!(in >> d)) throw Error(path + ": PLY file is truncated");
+            return d;
+          }
+          char b[8];
+          if (!in.read(b, std::streamsize(plyTypeSize(type, path)))) throw Error(path + ": PLY file is truncated");
+          return plyRead(b, type);
+        };
+        if (prop.is_list) {
+          const size_t n = size_t(value(prop.count_type));
+          std::vector<int32_t> idx(n);
+          for (size_t k = 0; k < n; ++k) idx[k] = int32_t(value(prop.type));
+          if (is_face && (prop.name == "vertex_indices" || prop.name == "vertex_index"))
+            for (size_t k = 1; k + 1 < n; ++k) mesh.triangles.push_back({idx[0], idx[k], idx[k + 1]});
+          continue;
+        }
+        const double d = value(prop.type);
+        if (!is_vertex) continue;
+        const std::string& nm = prop.name;
+        if (nm == "x") pos.x = float(d);
+        else if (nm == "y") pos.y = float(d);
+        else if (nm == "z") pos.z = float(d);
+        else if (nm == "nx") nrm.x = float(d), has_n = true;
+        else if (nm == "ny") nrm.y = float(d);
+        else if (nm == "nz") nrm.z = float(d);
+        else if (nm == "red") col.r = uint8_t(d), has_c = true;
+        else if (nm == "green") col.g = uint8_t(d);
+        else if (nm == "blue") col.b = uint8_t(d);
+        else if (nm == "class") cls = int32_t(d), has_k = true;
+      }
+      if (!is_vertex) continue;
+      mesh.positions.push_back(pos);
+      if (has_n) mesh.normals.push_back(nrm);
+      if (has_c) mesh.colors.push_back(col);
+      if (has_k) mesh.classes.push_back(cls);
+    }
+  }
+  for (const auto& t : mesh.triangles)
+    for (int32_t v : t)
+      if (v < 0 || size_t(v) >= mesh.positions.size()) throw Error(path + ": PLY face index out of range");
+  return mesh;
+}
+
+}  // namespace vf

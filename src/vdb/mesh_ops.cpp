@@ -1,0 +1,106 @@
+#include "vdb/mesh_ops.h"
+
+#include <cctype>
+#include <numeric>
+#include <string>
+#include <unordered_map>
+
+#include "core/error.h"
+
+namespace vf {
+
+std::vector<int32_t> faceClasses(const TriangleMesh& mesh) {
+  std::vector<int32_t> out(mesh.triangles.size(), -1);
+  if (!mesh.hasClasses()) return out;
+  for (size_t f = 0; f < mesh.triangles.size(); ++f) {
+    const auto& t = mesh.triangles[f];
+    const int32_t a = mesh.classes[t[0]], b = mesh.classes[t[1]], c = mesh.classes[t[2]];
+    out[f] = (b == c && a != b) ? b : a;  // a==b or a==c -> a; b==c -> b; all differ -> a
+  }
+  return out;
+}
+
+TriangleMesh selectFaces(const TriangleMesh& mesh, const std::vector<bool>& keep) {
+  TriangleMesh out;
+  std::vector<int32_t> remap(mesh.positions.size(), -1);
+  for (size_t f = 0; f < mesh.triangles.size(); ++f) {
+    if (!keep[f]) continue;
+    std::array<int32_t, 3> t{};
+    for (int k = 0; k < 3; ++k) {
+      const int32_t v = mesh.triangles[f][k];
+      if (remap[v] < 0) remap[v] = 0;  // mark; numbered below to keep vertex order
+      t[k] = v;
+    }
+    out.triangles.push_back(t);
+  }
+  int32_t next = 0;
+  for (size_t v = 0; v < remap.size(); ++v) {
+    if (remap[v] < 0) continue;
+    remap[v] = next++;
+    out.positions.push_back(mesh.positions[v]);
+    if (mesh.hasNormals()) out.normals.push_back(mesh.normals[v]);
+    if (mesh.hasColors()) out.colors.push_back(mesh.colors[v]);
+    if (mesh.hasClasses()) out.classes.push_back(mesh.classes[v]);
+  }
+  for (auto& t : out.triangles)
+    for (int32_t& v : t) v = remap[v];
+  return out;
+}
+
+TriangleMesh filterFacesByClass(const TriangleMesh& mesh, const std::set<int>& ids, bool include) {
+  if (!mesh.hasClasses()) throw Error("class filter: the scene has no class grid (fused without labels)");
+  const std::vector<int32_t> classes = faceClasses(mesh);
+  std::vector<bool> keep(classes.size());
+  for (size_t f = 0; f < classes.size(); ++f) keep[f] = (ids.count(classes[f]) > 0) == include;
+  TriangleMesh out = selectFaces(mesh, keep);
+  if (out.triangles.empty()) throw Error("class filter: the selection leaves no faces");
+  return out;
+}
+
+std::map<int32_t, TriangleMesh> splitByClass(const TriangleMesh& mesh) {
+  const std::vector<int32_t> classes = faceClasses(mesh);
+  std::map<int32_t, TriangleMesh> out;
+  std::set<int32_t> present(classes.begin(), classes.end());
+  for (int32_t id : present) {
+    std::vector<bool> keep(classes.size());
+    for (size_t f = 0; f < classes.size(); ++f) keep[f] = classes[f] == id;
+    out.emplace(id, selectFaces(mesh, keep));
+  }
+  return out;
+}
+
+size_t removeSmallComponents(TriangleMesh& mesh, size_t min_triangles) {
+  if (min_triangles <= 1 || mesh.triangles.empty()) return 0;
+  // Union-find over vertices; faces sharing a vertex share a component.
+  std::vector<int32_t> parent(mesh.positions.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int32_t v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  for (const auto& t : mesh.triangles)
+    for (int k = 1; k < 3; ++k) {
+      const int32_t a = find(t[0]), b = find(t[k]);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  std::vector<size_t> faces(parent.size(), 0);
+  for (const auto& t : mesh.triangles) ++faces[find(t[0])];
+  std::vector<bool> keep(mesh.triangles.size());
+  size_t removed = 0;
+  for (size_t f = 0; f < mesh.triangles.size(); ++f) {
+    keep[f] = faces[find(mesh.triangles[f][0])] >= min_triangles;
+    removed += !keep[f];
+  }
+  if (removed) mesh = selectFaces(mesh, keep);
+  return removed;
+}
+
+std::string classFileStem(const ClassTable& table, int32_t id) {
+  const ClassInfo* c = table.findId(id);
+  std::string name = c ? c->name : (id < 0 ? std::string("unknown") : "class_" + std::to_string(id));
+  for (char& ch : name)
+    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-' && ch != '_') ch = '_';
+  return name.empty() ? "class_" + std::to_string(id) : name;
+}
+
+}  // namespace vf

@@ -1,0 +1,33 @@
+#pragma once
+// Face-level operations on a meshed scene: class filters, per-class split, small pieces.
+#include <cstddef>
+#include <map>
+#include <set>
+#include <vector>
+
+#include "core/class_table.h"
+#include "core/mesh.h"
+
+namespace vf {
+
+// A face's class: the class at least two of its vertices share, else its first vertex's.
+// -1 for every face when the mesh has no classes.
+std::vector<int32_t> faceClasses(const TriangleMesh& mesh);
+
+// The faces with keep[f] true and the vertices they use (renumbered, order kept).
+TriangleMesh selectFaces(const TriangleMesh& mesh, const std::vector<bool>& keep);
+
+// Faces whose class is in `ids` (include) or not in `ids` (exclude). Throws vf::Error when the
+// mesh has no classes or nothing is left.
+TriangleMesh filterFacesByClass(const TriangleMesh& mesh, const std::set<int>& ids, bool include);
+
+// One mesh per face class (key -1: unknown). Together they hold exactly the input's faces.
+std::map<int32_t, TriangleMesh> splitByClass(const TriangleMesh& mesh);
+
+// Drops connected pieces (faces sharing a vertex) with fewer than `min_triangles` faces; returns how many faces went.
+size_t removeSmallComponents(TriangleMesh& mesh, size_t min_triangles);
+
+// A file-name-safe form of a class name ("dining table" -> "dining_table"; unknown -> "unknown").
+std::string classFileStem(const ClassTable& table, int32_t id);
+
+}  // namespace vf

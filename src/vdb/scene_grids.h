@@ -1,0 +1,32 @@
+#pragma once
+// The OpenVDB side of a Scene. Only src/vdb/*.cpp include this (OpenVDB templates compile slowly).
+#include <openvdb/openvdb.h>
+
+#include "core/math.h"
+#include "vdb/scene.h"
+
+namespace vf {
+
+// All grids share one transform and the tsdf's active topology (class/confidence grids exist
+// only when the scene was fused with labels).
+struct SceneGrids {
+  openvdb::FloatGrid::Ptr tsdf;              // level set, metres, background +truncation
+  openvdb::FloatGrid::Ptr weight;            // observation count, background 0
+  openvdb::Vec3SGrid::Ptr color;             // linear RGB 0..1, background 0
+  openvdb::Int32Grid::Ptr class_id;          // class id, background kSceneUnknownClass
+  openvdb::FloatGrid::Ptr class_confidence;  // vote confidence, background 0
+};
+
+// Makes sure openvdb::initialize() ran (idempotent, thread-safe).
+void ensureOpenVdbInitialized();
+
+// Deactivates the voxels active in `mask` in every grid (values back to each grid's background)
+// and prunes emptied leaves, so that all grids keep the tsdf's topology. Returns how many tsdf
+// voxels were active before and are not any more.
+size_t removeMaskedVoxels(SceneGrids& grids, const openvdb::MaskGrid& mask);
+
+// The scene's voxel-to-world transform: index (i,j,k) sits at origin + (i+0.5, j+0.5, k+0.5) * voxel
+// (cell centred, as VolumeView::voxelCenter).
+openvdb::math::Transform::Ptr sceneTransform(float voxel_size_m, const Vec3f& origin_m);
+
+}  // namespace vf

@@ -1,0 +1,141 @@
+// Reading and writing the scene document (.vdb). Metadata keys are prefixed "vdbfuse_" so that
+// other tools (Blender, Houdini) show them without clashing with their own.
+#include <openvdb/io/File.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+#include "core/version.h"
+#include "vdb/scene.h"
+#include "vdb/scene_grids.h"
+
+namespace vf {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kMetaVoxelSize = "vdbfuse_voxel_size_m";
+constexpr const char* kMetaTruncation = "vdbfuse_truncation_m";
+constexpr const char* kMetaClasses = "vdbfuse_classes";
+constexpr const char* kMetaSource = "vdbfuse_source";
+constexpr const char* kMetaFrameCount = "vdbfuse_frame_count";
+constexpr const char* kMetaVersion = "vdbfuse_software_version";
+
+std::string classesToJson(const ClassTable& table) {
+  nlohmann::json arr = nlohmann::json::array();
+  for (const ClassInfo& c : table.classes)
+    arr.push_back({{"id", c.id}, {"name", c.name}, {"color", {c.color.r, c.color.g, c.color.b}}});
+  return arr.dump();
+}
+
+ClassTable classesFromJson(const std::string& text, const std::string& path) {
+  ClassTable table;
+  try {
+    for (const auto& item : nlohmann::json::parse(text)) {
+      ClassInfo c;
+      c.id = item.at("id").get<int>();
+      c.name = item.at("name").get<std::string>();
+      const auto& rgb = item.at("color");
+      c.color = {rgb.at(0).get<uint8_t>(), rgb.at(1).get<uint8_t>(), rgb.at(2).get<uint8_t>(), 255};
+      table.classes.push_back(c);
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(path + ": metadata '" + kMetaClasses + "' is not a valid class table: " + e.what());
+  }
+  return table;
+}
+
+template <class GridT>
+typename GridT::Ptr findGrid(const openvdb::GridPtrVec& grids, const char* name, const std::string& path,
+                             bool required) {
+  for (const auto& base : grids) {
+    if (!base || base->getName() != name) continue;
+    auto grid = openvdb::gridPtrCast<GridT>(base);
+    if (!grid)
+      throw Error(path + ": grid '" + name + "' has type " + base->valueType() + ", expected " +
+                  openvdb::typeNameAsString<typename GridT::ValueType>());
+    return grid;
+  }
+  if (required) throw Error(path + ": not a vdbfuse scene: it has no '" + name + "' grid");
+  return nullptr;
+}
+
+}  // namespace
+
+void writeScene(const Scene& scene, const std::string& path) {
+  ensureOpenVdbInitialized();
+  const SceneGrids& g = scene.grids();
+  if (!g.tsdf) throw Error(path + ": cannot write a scene without a tsdf grid");
+  openvdb::GridPtrVec grids;
+  for (openvdb::GridBase::Ptr grid :
+       {openvdb::GridBase::Ptr(g.tsdf), openvdb::GridBase::Ptr(g.weight), openvdb::GridBase::Ptr(g.color),
+        openvdb::GridBase::Ptr(g.class_id), openvdb::GridBase::Ptr(g.class_confidence)})
+    if (grid) grids.push_back(grid);
+
+  openvdb::MetaMap meta;
+  meta.insertMeta(kMetaVoxelSize, openvdb::FloatMetadata(scene.meta.voxel_size_m));
+  meta.insertMeta(kMetaTruncation, openvdb::FloatMetadata(scene.meta.truncation_m));
+  meta.insertMeta(kMetaClasses, openvdb::StringMetadata(classesToJson(scene.meta.classes)));
+  meta.insertMeta(kMetaSource, openvdb::StringMetadata(scene.meta.source));
+  meta.insertMeta(kMetaFrameCount, openvdb::Int32Metadata(scene.meta.frame_count));
+  meta.insertMeta(kMetaVersion, openvdb::StringMetadata(scene.meta.software_version.empty()
+                                                            ? std::string(VDBFUSE_VERSION_STRING)
+                                                            : scene.meta.software_version));
+
+  // Temp file in the target directory, renamed into place: readers never see a half-written scene.
+  const fs::path target(path);
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  if (!fs::is_directory(dir)) throw Error(path + ": output directory does not exist");
+  const fs::path tmp = dir / ("." + target.filename().string() + ".tmp" + std::to_string(::getpid()));
+  try {
+    openvdb::io::File file(tmp.string());
+    file.write(grids, meta);
+    file.close();
+    fs::rename(tmp, target);
+  } catch (const std::exception& e) {
+    std::error_code ignored;
+    fs::remove(tmp, ignored);
+    throw Error(path + ": cannot write scene: " + e.what());
+  }
+}
+
+Scene readScene(const std::string& path) {
+  ensureOpenVdbInitialized();
+  if (!fs::exists(path)) throw Error(path + ": scene file does not exist");
+  openvdb::GridPtrVecPtr grids;
+  openvdb::MetaMap::Ptr meta;
+  try {
+    openvdb::io::File file(path);
+    file.open(/*delayLoad=*/false);  // read everything now: a truncated file must fail here
+    grids = file.getGrids();
+    meta = file.getMetadata();
+    file.close();
+  } catch (const std::exception& e) {
+    throw Error(path + ": not a readable OpenVDB file (truncated or foreign?): " + e.what());
+  }
+  Scene scene;
+  SceneGrids& g = scene.grids();
+  g.tsdf = findGrid<openvdb::FloatGrid>(*grids, kTsdfGridName, path, true);
+  if (g.tsdf->getGridClass() != openvdb::GRID_LEVEL_SET)
+    throw Error(path + ": grid 'tsdf' is not a level set");
+  g.weight = findGrid<openvdb::FloatGrid>(*grids, kWeightGridName, path, true);
+  g.color = findGrid<openvdb::Vec3SGrid>(*grids, kColorGridName, path, false);
+  g.class_id = findGrid<openvdb::Int32Grid>(*grids, kClassGridName, path, false);
+  g.class_confidence = findGrid<openvdb::FloatGrid>(*grids, kClassConfidenceGridName, path, false);
+
+  SceneMetadata& m = scene.meta;
+  m.voxel_size_m = float(g.tsdf->voxelSize()[0]);
+  m.truncation_m = g.tsdf->background();
+  if (auto v = meta->getMetadata<openvdb::FloatMetadata>(kMetaVoxelSize)) m.voxel_size_m = v->value();
+  if (auto v = meta->getMetadata<openvdb::FloatMetadata>(kMetaTruncation)) m.truncation_m = v->value();
+  if (auto v = meta->getMetadata<openvdb::StringMetadata>(kMetaClasses))
+    m.classes = classesFromJson(v->value(), path);
+  if (auto v = meta->getMetadata<openvdb::StringMetadata>(kMetaSource)) m.source = v->value();
+  if (auto v = meta->getMetadata<openvdb::Int32Metadata>(kMetaFrameCount)) m.frame_count = v->value();
+  if (auto v = meta->getMetadata<openvdb::StringMetadata>(kMetaVersion)) m.software_version = v->value();
+  return scene;
+}
+
+}  // namespace vf

@@ -1,0 +1,149 @@
+// Dense -> sparse conversion and the scene file.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include "core/error.h"
+#include "synthetic_scene.h"
+#include "test_data.h"
+#include "vdb/scene.h"
+#include "vdb/scene_info.h"
+
+namespace vf {
+namespace {
+
+namespace fs = std::filesystem;
+using test::fillSdf;
+using test::sphereSdf;
+using test::sphereSpec;
+
+SceneMetadata sampleMeta() {
+  SceneMetadata m;
+  m.classes.classes = {{test::kClassLeft, "chair", test::kColorLeft}, {test::kClassRight, "dining table", test::kColorRight}};
+  m.source = "synthetic sphere";
+  m.frame_count = 42;
+  return m;
+}
+
+size_t countWeighted(const DenseVolume& volume) {
+  const VolumeView& v = volume.view();
+  size_t n = 0;
+  for (size_t i = 0; i < size_t(v.dims.x) * v.dims.y * v.dims.z; ++i) n += v.tsdf[i].weight > 0;
+  return n;
+}
+
+TEST(SceneConversion, KeepsOnlyWeightedVoxelsAndTheirValues) {
+  DenseVolume volume(sphereSpec(), true);
+  fillSdf(volume, sphereSdf({0, 0, 0}, 0.2f), 0.f);
+  const VolumeView& v = volume.view();
+  const size_t weighted = countWeighted(volume);
+  ASSERT_GT(weighted, 20000u);
+
+  const Scene scene = sceneFromDenseVolume(volume, sampleMeta());
+  EXPECT_EQ(scene.activeVoxelCount(), weighted);
+  EXPECT_FLOAT_EQ(scene.meta.voxel_size_m, 0.01f);
+  EXPECT_FLOAT_EQ(scene.meta.truncation_m, 0.04f);
+
+  // Voxel (52, 32, 32): centre (0.205, 0.005, 0.005), just outside the sphere: sdf = 5.12 mm.
+  const Vec3i on{52, 32, 32};
+  const size_t i = v.voxelIndex(on.x, on.y, on.z);
+  const SceneVoxel s = sceneVoxel(scene, on);
+  ASSERT_TRUE(s.active);
+  EXPECT_NEAR(s.tsdf_m, v.sdfMetres(i), 1e-6);
+  EXPECT_NEAR(s.tsdf_m, 0.005122f, 2e-6);  // int16 quantisation: 1.2e-6 m
+  EXPECT_FLOAT_EQ(s.weight, 10.f);
+  EXPECT_EQ(s.class_id, test::kClassRight);
+  EXPECT_FLOAT_EQ(s.class_confidence, 7.f);
+  // sRGB 180 -> linear 0.4564; 30 -> 0.0123.
+  EXPECT_NEAR(s.color_linear.y, 0.4564f, 1e-3);
+  EXPECT_NEAR(s.color_linear.x, 0.0123f, 1e-3);
+  // Cell-centred transform: index (52,32,32) sits where the dense volume puts it.
+  const Vec3f c = sceneVoxelCenter(scene, on), d = v.voxelCenter(on.x, on.y, on.z);
+  EXPECT_NEAR(c.x, d.x, 1e-6);
+  EXPECT_NEAR(c.y, d.y, 1e-6);
+  EXPECT_NEAR(c.z, d.z, 1e-6);
+
+  // The centre of the sphere is far from the surface: never weighted, inactive, background.
+  const SceneVoxel centre = sceneVoxel(scene, {32, 32, 32});
+  EXPECT_FALSE(centre.active);
+  EXPECT_FLOAT_EQ(centre.tsdf_m, 0.04f);
+  EXPECT_EQ(centre.class_id, kSceneUnknownClass);
+}
+
+TEST(SceneConversion, UnknownClassVoteBecomesMinusOneAndUnobservedBricksAreSkipped) {
+  DenseVolume volume(sphereSpec(32), true);
+  const VolumeView& v = volume.view();
+  const size_t a = v.voxelIndex(3, 4, 5), b = v.voxelIndex(20, 20, 20);
+  v.tsdf[a] = {1000, 3};
+  v.class_vote[a] = packClassVote(kUnknownClass, 0);
+  v.brick_stamp[v.brickIndex(0, 0, 0)] = 5;
+  v.tsdf[b] = {1000, 3};  // weighted but its brick has no stamp: not observed, not converted
+  const Scene scene = sceneFromDenseVolume(volume, {});
+  EXPECT_EQ(scene.activeVoxelCount(), 1u);
+  EXPECT_EQ(sceneVoxel(scene, {3, 4, 5}).class_id, kSceneUnknownClass);
+  EXPECT_TRUE(sceneVoxel(scene, {3, 4, 5}).active);
+  EXPECT_FALSE(sceneVoxel(scene, {20, 20, 20}).active);
+}
+
+TEST(SceneFile, RoundTripKeepsGridsCountsAndMetadata) {
+  DenseVolume volume(sphereSpec(), true);
+  fillSdf(volume, sphereSdf({0, 0, 0}, 0.2f), 0.f);
+  const Scene scene = sceneFromDenseVolume(volume, sampleMeta());
+  const std::string dir = test::tempDir("scene_roundtrip");
+  const std::string path = dir + "/scene.vdb";
+  writeScene(scene, path);
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1) << "temp file left";
+
+  const Scene back = readScene(path);
+  const SceneSummary a = summarizeScene(scene), b = summarizeScene(back);
+  ASSERT_EQ(a.grids.size(), 5u);
+  ASSERT_EQ(b.grids.size(), 5u);
+  for (size_t i = 0; i < a.grids.size(); ++i) {
+    EXPECT_EQ(a.grids[i].name, b.grids[i].name);
+    EXPECT_EQ(a.grids[i].active_voxels, b.grids[i].active_voxels);
+  }
+  EXPECT_EQ(back.activeVoxelCount(), scene.activeVoxelCount());
+  EXPECT_FLOAT_EQ(back.meta.voxel_size_m, 0.01f);
+  EXPECT_FLOAT_EQ(back.meta.truncation_m, 0.04f);
+  EXPECT_EQ(back.meta.source, "synthetic sphere");
+  EXPECT_EQ(back.meta.frame_count, 42);
+  EXPECT_FALSE(back.meta.software_version.empty());
+  ASSERT_EQ(back.meta.classes.classes.size(), 2u);
+  EXPECT_EQ(back.meta.classes.findId(2)->name, "dining table");
+  EXPECT_EQ(back.meta.classes.findId(2)->color.g, 180);
+  ASSERT_EQ(a.classes.size(), b.classes.size());
+  for (size_t i = 0; i < a.classes.size(); ++i) EXPECT_EQ(a.classes[i].voxels, b.classes[i].voxels);
+  EXPECT_NEAR(sceneVoxel(back, {52, 32, 32}).tsdf_m, 0.005122f, 2e-6);
+  // Bounds: the band reaches 0.2 + 0.04 m from the centre, to within a voxel.
+  EXPECT_NEAR(b.bounds_max_m.x, 0.24f, 0.011f);
+  EXPECT_NEAR(b.bounds_min_m.y, -0.24f, 0.011f);
+}
+
+TEST(SceneFile, TruncatedForeignAndIncompleteFilesAreClearErrors) {
+  DenseVolume volume(sphereSpec(), false);
+  fillSdf(volume, sphereSdf({0, 0, 0}, 0.2f), 0.f);
+  const Scene scene = sceneFromDenseVolume(volume, {});
+  const std::string dir = test::tempDir("scene_bad_files");
+  writeScene(scene, dir + "/good.vdb");
+  const auto size = fs::file_size(dir + "/good.vdb");
+  fs::copy_file(dir + "/good.vdb", dir + "/cut.vdb");
+  fs::resize_file(dir + "/cut.vdb", size / 2);
+  EXPECT_THROW(readScene(dir + "/cut.vdb"), Error);
+
+  std::ofstream(dir + "/random.vdb", std::ios::binary) << std::string(4096, '\x5a');
+  EXPECT_THROW(readScene(dir + "/random.vdb"), Error);
+  EXPECT_THROW(readScene(dir + "/missing.vdb"), Error);
+
+  EXPECT_NO_THROW(readScene(dir + "/good.vdb"));
+  // (A VDB without `tsdf` -- the Blender fog volume -- is checked in export_test.)
+  try {
+    readScene(dir + "/cut.vdb");
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("cut.vdb"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace vf
