@@ -3,6 +3,7 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 #include <string>
 #include <tuple>
@@ -55,6 +56,12 @@ Stats statistics(std::vector<double> v) {
 
 constexpr double kRadToDeg = 180.0 / M_PI;
 
+std::string seconds(double s) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g s", s);
+  return buf;
+}
+
 }  // namespace
 
 std::vector<std::pair<int, int>> associateTimestamps(const std::vector<double>& a, const std::vector<double>& b,
@@ -99,8 +106,8 @@ AteResult computeAte(const Trajectory& estimate, const Trajectory& ground_truth,
   const auto matches = associateTimestamps(timestamps(ground_truth), timestamps(estimate), max_difference_s);
   const int n = int(matches.size());
   if (n < 3)
-    throw Error("ATE needs at least 3 estimated poses within " + std::to_string(max_difference_s) +
-                " s of a ground-truth pose, found " + std::to_string(n) +
+    throw Error("ATE needs at least 3 estimated poses within " + seconds(max_difference_s) +
+                " of a ground-truth pose, found " + std::to_string(n) +
                 " (do the two files use the same clock?)");
   Eigen::Matrix3Xd est(3, n), gt(3, n);
   for (int k = 0; k < n; ++k) {

@@ -49,6 +49,12 @@ std::string headerComments(const std::string& path) {
   return out;
 }
 
+std::string seconds(double s) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g s", s);
+  return buf;
+}
+
 std::string stem(const std::string& path) { return fs::path(path).stem().string(); }
 
 // "data/rgbd_dataset_freiburg1_xyz/" -> "rgbd_dataset_freiburg1_xyz".
@@ -177,12 +183,12 @@ TumDataset::TumDataset(const std::string& folder, TumOptions options)
       char t[32];
       std::snprintf(t, sizeof t, "%.6f", depth[i].timestamp);
       warnings_.push_back("depth frame " + depth[i].path + " (t = " + t + " s) has no colour image within " +
-                          std::to_string(options_.max_time_difference_s) + " s in " + rgb_list + "; left out");
+                          seconds(options_.max_time_difference_s) + " in " + rgb_list + "; left out");
     }
   }
   if (frames_.empty())
     throw Error("no depth frame of " + depth_list + " has a colour image within " +
-                std::to_string(options_.max_time_difference_s) + " s in " + rgb_list);
+                seconds(options_.max_time_difference_s) + " in " + rgb_list);
 
   // Calibration, in priority order: user override, the folder's file, the published values.
   const std::string calib_file = (fs::path(folder_) / "camera_intrinsics.txt").string();

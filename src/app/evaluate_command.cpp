@@ -51,7 +51,7 @@ void setup(CLI::App& root) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--delta", options->delta_frames, "RPE frame distance")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1, 1000000));
   cmd->callback([options] { runEvaluate(*options); });
 }
 
