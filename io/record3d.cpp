@@ -1,0 +1,232 @@
+#include "io/record3d.h"
+
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <cmath>
+
+#include "core/error.h"
+#include "io/lzfse.h"
+#include "io/zip_archive.h"
+
+namespace vf {
+namespace {
+
+using nlohmann::json;
+
+const json& requireKey(const json& j, const char* key, const std::string& source) {
+  const auto it = j.find(key);
+  if (it == j.end()) throw Error(source + ": metadata has no '" + key + "'");
+  return *it;
+}
+
+int positiveInt(const json& j, const char* key, const std::string& source) {
+  const json& v = requireKey(j, key, source);
+  if (!v.is_number_integer() || v.get<int64_t>() <= 0 || v.get<int64_t>() > 100000)
+    throw Error(source + ": metadata '" + key + "' must be a positive image size, got " + v.dump());
+  return v.get<int>();
+}
+
+}  // namespace
+
+Pose record3dPoseToCamera(const std::array<double, 7>& p) {
+  Eigen::Quaterniond q(p[3], p[0], p[1], p[2]);  // Eigen's constructor takes w first
+  if (!(q.norm() > 0.5 && q.norm() < 2.0)) throw Error("Record3D pose quaternion is not a rotation");
+  q.normalize();
+  Pose T_world_glcam = Pose::Identity();
+  T_world_glcam.linear() = q.toRotationMatrix();
+  T_world_glcam.translation() = Eigen::Vector3d(p[4], p[5], p[6]);
+  // ARKit camera: x right, y up, z backward. Ours: x right, y down, z forward. A point in our
+  // camera frame is diag(1, -1, -1) times the same point in ARKit's.
+  Pose glcam_from_cam = Pose::Identity();
+  glcam_from_cam.linear() = Eigen::Vector3d(1, -1, -1).asDiagonal();
+  return T_world_glcam * glcam_from_cam;
+}
+
+Record3dMetadata parseRecord3dMetadata(const std::string& text, const std::string& source) {
+  json j;
+  try {
+    j = json::parse(text);
+  } catch (const json::exception& e) {
+    throw Error(source + ": metadata is not valid JSON (" + e.what() + ")");
+  }
+  if (!j.is_object()) throw Error(source + ": metadata is not a JSON object");
+  Record3dMetadata m;
+  try {
+    m.rgb_width = positiveInt(j, "w", source);
+    m.rgb_height = positiveInt(j, "h", source);
+    if (j.contains("dw") || j.contains("dh")) {
+      m.depth_width = positiveInt(j, "dw", source);
+      m.depth_height = positiveInt(j, "dh", source);
+    }
+    const json& K = requireKey(j, "K", source);
+    if (!K.is_array() || K.size() != 9) throw Error(source + ": metadata 'K' must hold 9 numbers");
+    // Column-major: K[0] = fx, K[4] = fy, K[6] = cx, K[7] = cy, K[8] = 1.
+    if (K[2].get<double>() != 0 || K[5].get<double>() != 0 || K[8].get<double>() != 1)
+      throw Error(source + ": metadata 'K' is not a column-major pinhole matrix: " + K.dump());
+    m.fx = K[0].get<float>();
+    m.fy = K[4].get<float>();
+    m.cx = K[6].get<float>();
+    m.cy = K[7].get<float>();
+    if (!(m.fx > 0 && m.fy > 0)) throw Error(source + ": metadata 'K' has no positive focal length");
+    if (j.contains("fps")) m.fps = j["fps"].get<double>();
+    if (j.contains("poses")) {
+      for (const json& p : j["poses"]) {
+        if (!p.is_array() || p.size() != 7)
+          throw Error(source + ": metadata pose " + std::to_string(m.T_world_cam.size()) +
+                      " must be [qx, qy, qz, qw, tx, ty, tz]");
+        std::array<double, 7> v;
+        for (int i = 0; i < 7; ++i) v[i] = p[i].get<double>();
+        m.T_world_cam.push_back(record3dPoseToCamera(v));
+      }
+    }
+    if (j.contains("frameTimestamps"))
+      m.timestamps_s = j["frameTimestamps"].get<std::vector<double>>();
+  } catch (const json::exception& e) {
+    throw Error(source + ": metadata has a field of the wrong type (" + e.what() + ")");
+  }
+  if (m.timestamps_s.empty() && !(m.fps > 0))
+    throw Error(source + ": metadata has neither 'frameTimestamps' nor a positive 'fps'");
+  return m;
+}
+
+Intrinsics scaleRecord3dIntrinsics(const Record3dMetadata& m, int width, int height) {
+  const float sx = float(width) / float(m.rgb_width);
+  const float sy = float(height) / float(m.rgb_height);
+  Intrinsics k;
+  k.fx = m.fx * sx;
+  k.fy = m.fy * sy;
+  k.cx = m.cx * sx;
+  k.cy = m.cy * sy;
+  k.width = width;
+  k.height = height;
+  return k;
+}
+
+double record3dTimestamp(const Record3dMetadata& m, int index) {
+  if (index >= 0 && size_t(index) < m.timestamps_s.size()) return m.timestamps_s[size_t(index)];
+  return m.fps > 0 ? double(index) / m.fps : 0.0;
+}
+
+ColorImage decodeColorAtResolution(const std::vector<uint8_t>& encoded, int width, int height,
+                                   const std::string& what) {
+  const cv::Mat raw(1, int(encoded.size()), CV_8UC1, const_cast<uint8_t*>(encoded.data()));
+  cv::Mat bgr = cv::imdecode(raw, cv::IMREAD_COLOR);
+  if (bgr.empty()) throw Error(what + ": not a decodable JPEG/PNG image");
+  if (bgr.cols != width || bgr.rows != height) {
+    cv::Mat small;
+    cv::resize(bgr, small, cv::Size(width, height), 0, 0, cv::INTER_AREA);
+    bgr = small;
+  }
+  ColorImage color(width, height);
+  for (int y = 0; y < height; ++y) {
+    const cv::Vec3b* row = bgr.ptr<cv::Vec3b>(y);
+    for (int x = 0; x < width; ++x) color(x, y) = {row[x][2], row[x][1], row[x][0], 255};
+  }
+  return color;
+}
+
+void filterRecord3dDepth(DepthImage& depth, const uint8_t* confidence, int min_confidence) {
+  float* d = depth.data();
+  const size_t n = size_t(depth.width()) * size_t(depth.height());
+  for (size_t i = 0; i < n; ++i) {
+    if (!(std::isfinite(d[i]) && d[i] > 0.f)) d[i] = 0.f;
+    if (confidence && confidence[i] < min_confidence) d[i] = 0.f;
+  }
+}
+
+namespace {
+
+std::string depthEntry(int i) { return "rgbd/" + std::to_string(i) + ".depth"; }
+std::string confEntry(int i) { return "rgbd/" + std::to_string(i) + ".conf"; }
+std::string colorEntry(int i) { return "rgbd/" + std::to_string(i) + ".jpg"; }
+
+}  // namespace
+
+Record3dCapture::Record3dCapture(const std::string& path, Record3dOptions options)
+    : path_(path), options_(options) {
+  if (options_.min_confidence < 0 || options_.min_confidence > 2)
+    throw Error("min_confidence must be 0, 1 or 2, got " + std::to_string(options_.min_confidence));
+  zip_ = std::make_unique<ZipArchive>(path);
+  if (!zip_->contains("metadata")) throw Error(path + ": no 'metadata' entry (not a Record3D .r3d)");
+  const auto text = zip_->read("metadata", 64 << 20);
+  meta_ = parseRecord3dMetadata(std::string(text.begin(), text.end()), path + ": metadata");
+
+  while (zip_->contains(depthEntry(frame_count_))) ++frame_count_;
+  if (frame_count_ == 0) throw Error(path + ": no 'rgbd/0.depth' entry");
+  for (const std::string& name : zip_->entryNames()) {
+    if (name.size() > 5 && name.compare(0, 5, "rgbd/") == 0 && name.find(".conf") != std::string::npos)
+      has_confidence_ = true;
+  }
+
+  if (meta_.depth_width == 0) {
+    // No dw/dh: the depth map has the RGB aspect ratio, so width = sqrt(pixels * w / h).
+    const auto first = lzfseDecode(zip_->read(depthEntry(0)));
+    const size_t pixels = first.size() / 4;
+    const int w = int(std::lround(std::sqrt(double(pixels) * meta_.rgb_width / meta_.rgb_height)));
+    const int h = w > 0 ? int(pixels / size_t(w)) : 0;
+    if (first.size() % 4 != 0 || w <= 0 || size_t(w) * size_t(h) != pixels)
+      throw Error(path + ": rgbd/0.depth decodes to " + std::to_string(first.size()) +
+                  " bytes, not a " + std::to_string(meta_.rgb_width) + ":" +
+                  std::to_string(meta_.rgb_height) + " float32 map, and metadata has no dw/dh");
+    meta_.depth_width = w;
+    meta_.depth_height = h;
+  }
+  depth_intrinsics_ = scaleRecord3dIntrinsics(meta_, meta_.depth_width, meta_.depth_height);
+}
+
+Record3dCapture::~Record3dCapture() = default;
+
+void Record3dCapture::decodeEntryInto(const std::string& entry, uint8_t* dst, size_t bytes) const {
+  const std::vector<uint8_t> compressed = zip_->read(entry, 256 << 20);  // under the zip mutex
+  size_t decoded = 0;
+  try {
+    decoded = lzfseDecodeInto(compressed.data(), compressed.size(), dst, bytes);  // in parallel
+  } catch (const Error& e) {
+    throw Error(path_ + ": entry '" + entry + "': " + e.what());
+  }
+  if (decoded != bytes)
+    throw Error(path_ + ": entry '" + entry + "' decodes to " + std::to_string(decoded) +
+                " bytes, expected " + std::to_string(bytes) + " (" +
+                std::to_string(meta_.depth_width) + "x" + std::to_string(meta_.depth_height) + ")");
+}
+
+RgbdFrame Record3dCapture::load(int index) const {
+  if (index < 0 || index >= frame_count_)
+    throw Error(path_ + ": frame " + std::to_string(index) + " out of range (0.." +
+                std::to_string(frame_count_ - 1) + ")");
+  const int w = meta_.depth_width, h = meta_.depth_height;
+  const size_t pixels = size_t(w) * size_t(h);
+  RgbdFrame frame;
+  frame.index = index;
+  frame.name = std::to_string(index);
+  frame.timestamp = record3dTimestamp(meta_, index);
+  frame.depth.resize(w, h);
+  decodeEntryInto(depthEntry(index), reinterpret_cast<uint8_t*>(frame.depth.data()),
+                  pixels * sizeof(float));
+  std::vector<uint8_t> confidence;
+  if (has_confidence_ && options_.min_confidence > 0) {
+    confidence.resize(pixels);
+    decodeEntryInto(confEntry(index), confidence.data(), pixels);
+  }
+  filterRecord3dDepth(frame.depth, confidence.empty() ? nullptr : confidence.data(),
+                      options_.min_confidence);
+  if (options_.load_color) {
+    const std::string entry = colorEntry(index);
+    frame.color = decodeColorAtResolution(zip_->read(entry, 256 << 20), w, h,
+                                          path_ + ": entry '" + entry + "'");
+  }
+  if (size_t(index) < meta_.T_world_cam.size()) frame.T_world_cam_given = meta_.T_world_cam[index];
+  return frame;
+}
+
+std::string Record3dCapture::description() const {
+  return "Record3D capture " + path_ + ": " + std::to_string(frame_count_) + " frames, depth " +
+         std::to_string(meta_.depth_width) + "x" + std::to_string(meta_.depth_height) + ", RGB " +
+         std::to_string(meta_.rgb_width) + "x" + std::to_string(meta_.rgb_height) +
+         (has_confidence_ ? ", min confidence " + std::to_string(options_.min_confidence)
+                          : ", no confidence maps");
+}
+
+}  // namespace vf

@@ -1,0 +1,89 @@
+#pragma once
+// Record3D (iPhone / iPad LiDAR app) captures as a FrameSource.
+//
+// A .r3d file is a zip: `metadata` (JSON), and per frame i `rgbd/i.jpg` (colour at w x h),
+// `rgbd/i.depth` (LZFSE-compressed float32 metres, dw x dh, row-major) and `rgbd/i.conf`
+// (LZFSE-compressed uint8 ARKit confidence 0 low / 1 medium / 2 high).
+// Metadata keys used: w, h, K (3x3 column-major, for w x h), poses (per frame qx qy qz qw tx ty tz,
+// camera-to-world, ARKit camera axes x right / y up / z backward), fps, optional dw, dh,
+// frameTimestamps. Captures without dw/dh get them from the size of frame 0's depth map.
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/frame.h"
+
+namespace vf {
+
+class ZipArchive;
+
+struct Record3dOptions {
+  // Depth pixels whose ARKit confidence is below this (0, 1 or 2) become 0 = no reading.
+  int min_confidence = 2;
+  bool load_color = true;
+};
+
+struct Record3dMetadata {
+  int rgb_width = 0, rgb_height = 0;      // w, h
+  int depth_width = 0, depth_height = 0;  // dw, dh; 0 when the metadata lacks them
+  float fx = 0, fy = 0, cx = 0, cy = 0;   // K at the RGB resolution
+  double fps = 0;
+  std::vector<Pose> T_world_cam;    // per frame, already in the project camera axes
+  std::vector<double> timestamps_s;  // frameTimestamps when present, else empty
+};
+
+// Parses the metadata JSON; `source` names the file in error messages.
+Record3dMetadata parseRecord3dMetadata(const std::string& json_text, const std::string& source);
+
+// [qx, qy, qz, qw, tx, ty, tz] camera-to-world in ARKit/OpenGL camera axes -> T_world_cam in the
+// project's axes (x right, y down, z forward): T_world_glcam * diag(1, -1, -1), world unchanged.
+Pose record3dPoseToCamera(const std::array<double, 7>& q_xyzw_t);
+
+// K of the RGB image scaled to a depth map of width x height. Apple scales intrinsics by the
+// ratio of image sizes (fx, cx by width ratio; fy, cy by height ratio), and Record3D does the same.
+Intrinsics scaleRecord3dIntrinsics(const Record3dMetadata& meta, int width, int height);
+
+// Timestamp of frame `index`: frameTimestamps[index] when present, else index / fps.
+double record3dTimestamp(const Record3dMetadata& meta, int index);
+
+// Decodes a JPEG/PNG (bytes) and area-averages it to width x height. The RGB and depth images of
+// a capture cover the same field of view (same optical centre once K is scaled), so each depth
+// pixel gets the mean colour of the RGB pixels it covers. `what` names the file in errors.
+ColorImage decodeColorAtResolution(const std::vector<uint8_t>& encoded, int width, int height,
+                                   const std::string& what);
+
+// Zeroes depth that is not finite or not positive, and where confidence < min_confidence
+// (confidence may be null when the capture has none).
+void filterRecord3dDepth(DepthImage& depth_m, const uint8_t* confidence, int min_confidence);
+
+class Record3dCapture : public FrameSource {
+ public:
+  // Opens the archive and parses its metadata; throws vf::Error naming the file (and entry) when
+  // the archive is not a zip, lacks metadata or a frame entry, or has inconsistent sizes.
+  explicit Record3dCapture(const std::string& path, Record3dOptions options = {});
+  ~Record3dCapture() override;
+
+  int size() const override { return frame_count_; }
+  // Thread-safe: several threads may load different (or the same) indices at once.
+  RgbdFrame load(int index) const override;
+  Intrinsics depthIntrinsics() const override { return depth_intrinsics_; }
+  std::string description() const override;
+
+  const Record3dMetadata& metadata() const { return meta_; }
+  const std::string& path() const { return path_; }
+
+ private:
+  // Reads an LZFSE entry and decodes it into exactly `bytes` bytes at dst.
+  void decodeEntryInto(const std::string& entry, uint8_t* dst, size_t bytes) const;
+
+  std::string path_;
+  Record3dOptions options_;
+  std::unique_ptr<ZipArchive> zip_;
+  Record3dMetadata meta_;
+  Intrinsics depth_intrinsics_;
+  int frame_count_ = 0;
+  bool has_confidence_ = false;
+};
+
+}  // namespace vf

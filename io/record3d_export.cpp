@@ -1,0 +1,145 @@
+#include "io/record3d_export.h"
+
+#include <opencv2/imgcodecs.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <mutex>
+
+#include "core/error.h"
+
+namespace vf {
+namespace fs = std::filesystem;
+
+void enableOpenCvExr() {
+  static std::once_flag once;
+  std::call_once(once, [] { setenv("OPENCV_IO_ENABLE_OPENEXR", "1", /*overwrite=*/0); });
+}
+
+namespace {
+
+std::vector<uint8_t> readBytes(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw Error(path + ": cannot open");
+  return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
+
+// float32 metres from an EXR: single channel as is; for RGB(A) files OpenCV returns BGR order and
+// the depth is the R channel.
+DepthImage readDepthExr(const std::string& path) {
+  enableOpenCvExr();
+  cv::Mat m = cv::imread(path, cv::IMREAD_UNCHANGED);
+  if (m.empty())
+    throw Error(path + ": cannot read EXR depth (missing, corrupt, or OpenCV built without OpenEXR)");
+  if (m.depth() != CV_32F)
+    throw Error(path + ": EXR depth must be 32-bit float, got OpenCV depth " +
+                std::to_string(m.depth()));
+  if (m.channels() > 1) {
+    cv::Mat channel;
+    cv::extractChannel(m, channel, 2 < m.channels() ? 2 : 0);
+    m = channel;
+  }
+  DepthImage depth(m.cols, m.rows);
+  for (int y = 0; y < m.rows; ++y) {
+    const float* row = m.ptr<float>(y);
+    for (int x = 0; x < m.cols; ++x) depth(x, y) = row[x];
+  }
+  return depth;
+}
+
+}  // namespace
+
+Record3dExport::Record3dExport(const std::string& folder, Record3dOptions options)
+    : folder_(folder), options_(options) {
+  if (options_.min_confidence < 0 || options_.min_confidence > 2)
+    throw Error("min_confidence must be 0, 1 or 2, got " + std::to_string(options_.min_confidence));
+  const std::string meta_path = (fs::path(folder) / "metadata.json").string();
+  if (!fs::exists(meta_path)) throw Error(folder + ": no metadata.json (not a Record3D export)");
+  const auto text = readBytes(meta_path);
+  meta_ = parseRecord3dMetadata(std::string(text.begin(), text.end()), meta_path);
+
+  if (fs::exists(fs::path(folder) / "depth" / "0.exr")) {
+    depth_dir_ = "depth";
+    color_dir_ = "rgb";
+  } else if (fs::exists(fs::path(folder) / "rgbd" / "0.exr")) {
+    depth_dir_ = color_dir_ = "rgbd";
+  } else {
+    throw Error(folder + ": no depth/0.exr (nor rgbd/0.exr)");
+  }
+  while (fs::exists(depthPath(frame_count_))) ++frame_count_;
+
+  const DepthImage first = readDepthExr(depthPath(0));
+  if (meta_.depth_width && (meta_.depth_width != first.width() || meta_.depth_height != first.height()))
+    throw Error(depthPath(0) + ": depth is " + std::to_string(first.width()) + "x" +
+                std::to_string(first.height()) + " but metadata.json says dw x dh = " +
+                std::to_string(meta_.depth_width) + "x" + std::to_string(meta_.depth_height));
+  meta_.depth_width = first.width();
+  meta_.depth_height = first.height();
+  depth_intrinsics_ = scaleRecord3dIntrinsics(meta_, first.width(), first.height());
+}
+
+std::string Record3dExport::depthPath(int i) const {
+  return (fs::path(folder_) / depth_dir_ / (std::to_string(i) + ".exr")).string();
+}
+std::string Record3dExport::colorPath(int i) const {
+  const fs::path jpg = fs::path(folder_) / color_dir_ / (std::to_string(i) + ".jpg");
+  if (fs::exists(jpg)) return jpg.string();
+  return (fs::path(folder_) / color_dir_ / (std::to_string(i) + ".png")).string();
+}
+std::string Record3dExport::confPath(int i) const {
+  return (fs::path(folder_) / "conf" / (std::to_string(i) + ".png")).string();
+}
+
+RgbdFrame Record3dExport::load(int index) const {
+  if (index < 0 || index >= frame_count_)
+    throw Error(folder_ + ": frame " + std::to_string(index) + " out of range (0.." +
+                std::to_string(frame_count_ - 1) + ")");
+  RgbdFrame frame;
+  frame.index = index;
+  frame.name = std::to_string(index);
+  frame.timestamp = record3dTimestamp(meta_, index);
+  frame.depth = readDepthExr(depthPath(index));
+  const int w = frame.depth.width(), h = frame.depth.height();
+  if (w != meta_.depth_width || h != meta_.depth_height)
+    throw Error(depthPath(index) + ": depth is " + std::to_string(w) + "x" + std::to_string(h) +
+                ", frame 0 is " + std::to_string(meta_.depth_width) + "x" +
+                std::to_string(meta_.depth_height));
+  cv::Mat conf;
+  if (options_.min_confidence > 0 && fs::exists(confPath(index))) {
+    conf = cv::imread(confPath(index), cv::IMREAD_UNCHANGED);
+    if (conf.type() != CV_8UC1 || conf.cols != w || conf.rows != h)
+      throw Error(confPath(index) + ": confidence must be 8-bit single-channel " +
+                  std::to_string(w) + "x" + std::to_string(h));
+    if (!conf.isContinuous()) conf = conf.clone();
+  }
+  filterRecord3dDepth(frame.depth, conf.empty() ? nullptr : conf.ptr<uint8_t>(0),
+                      options_.min_confidence);
+  if (options_.load_color) {
+    const std::string path = colorPath(index);
+    if (!fs::exists(path)) throw Error(path + ": colour image missing");
+    frame.color = decodeColorAtResolution(readBytes(path), w, h, path);
+  }
+  if (size_t(index) < meta_.T_world_cam.size()) frame.T_world_cam_given = meta_.T_world_cam[index];
+  return frame;
+}
+
+std::string Record3dExport::description() const {
+  return "Record3D EXR+JPG export " + folder_ + ": " + std::to_string(frame_count_) +
+         " frames, depth " + std::to_string(meta_.depth_width) + "x" +
+         std::to_string(meta_.depth_height);
+}
+
+std::unique_ptr<FrameSource> openRecord3d(const std::string& path, Record3dOptions options) {
+  const fs::path p(path);
+  if (fs::is_directory(p)) {
+    if (fs::exists(p / "metadata.json")) return std::make_unique<Record3dExport>(path, options);
+    throw Error(path + ": a folder without metadata.json is not a Record3D export");
+  }
+  if (!fs::exists(p)) throw Error(path + ": no such file or folder");
+  if (p.extension() == ".r3d") return std::make_unique<Record3dCapture>(path, options);
+  throw Error(path + ": unknown capture format (expected a .r3d file or an export folder)");
+}
+
+}  // namespace vf

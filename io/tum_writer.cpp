@@ -1,0 +1,178 @@
+#include "io/tum_writer.h"
+
+#include <tbb/parallel_for.h>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <optional>
+#include <sstream>
+#include <vector>
+
+#include "core/error.h"
+
+namespace vf {
+namespace fs = std::filesystem;
+
+std::string tumTimestampString(double t) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.6f", t);
+  return buf;
+}
+
+namespace {
+
+constexpr double kDepthUnitsPerMetre = 5000.0;  // TUM: 16-bit PNG value / 5000 = metres
+
+// cv::imwrite chooses the codec from the extension, so the temporary name keeps ".png".
+void writePngAtomic(const fs::path& target, const cv::Mat& image) {
+  const fs::path tmp = target.parent_path() / ("." + target.stem().string() + ".tmp.png");
+  bool ok = false;
+  try {
+    ok = cv::imwrite(tmp.string(), image);
+  } catch (const cv::Exception& e) {
+    throw Error(target.string() + ": cannot write PNG (" + e.what() + ")");
+  }
+  if (!ok) throw Error(target.string() + ": cannot write PNG");
+  std::error_code ec;
+  fs::rename(tmp, target, ec);
+  if (ec) throw Error(target.string() + ": cannot rename the written PNG (" + ec.message() + ")");
+}
+
+void writeTextAtomic(const fs::path& target, const std::string& text) {
+  const fs::path tmp = target.parent_path() / ("." + target.filename().string() + ".tmp");
+  {
+    std::ofstream f(tmp, std::ios::binary);
+    f << text;
+    f.flush();
+    if (!f) throw Error(target.string() + ": cannot write");
+  }
+  std::error_code ec;
+  fs::rename(tmp, target, ec);
+  if (ec) throw Error(target.string() + ": cannot rename the written file (" + ec.message() + ")");
+}
+
+cv::Mat depthToPng(const DepthImage& depth) {
+  cv::Mat out(depth.height(), depth.width(), CV_16UC1);
+  for (int y = 0; y < depth.height(); ++y) {
+    uint16_t* row = out.ptr<uint16_t>(y);
+    for (int x = 0; x < depth.width(); ++x) {
+      const double units = std::round(double(depth(x, y)) * kDepthUnitsPerMetre);
+      // Beyond 13.1 m a 16-bit value cannot hold the depth; no reading beats a wrong one.
+      row[x] = (std::isfinite(units) && units > 0 && units <= 65535) ? uint16_t(units) : 0;
+    }
+  }
+  return out;
+}
+
+cv::Mat colorToPng(const ColorImage& color) {
+  cv::Mat out(color.height(), color.width(), CV_8UC3);
+  for (int y = 0; y < color.height(); ++y) {
+    cv::Vec3b* row = out.ptr<cv::Vec3b>(y);
+    for (int x = 0; x < color.width(); ++x) {
+      const Rgb8 c = color(x, y);
+      row[x] = {c.b, c.g, c.r};
+    }
+  }
+  return out;
+}
+
+struct FrameRecord {
+  double timestamp = 0;
+  bool has_color = false;
+  std::optional<Pose> pose;
+};
+
+std::string listHeader(const char* what, const std::string& description) {
+  return std::string("# ") + what + "\n# written by vdbfuse convert from " + description +
+         "\n# timestamp filename\n";
+}
+
+}  // namespace
+
+TumWriteResult writeTumFolder(const FrameSource& source, const std::string& folder,
+                              const TumWriteOptions& options) {
+  const fs::path dir(folder);
+  if (fs::exists(dir)) {
+    if (!fs::is_directory(dir)) throw Error(folder + ": exists and is not a folder");
+    if (!fs::is_empty(dir) && !options.force)
+      throw Error(folder + ": folder exists and is not empty (use --force to write into it)");
+  }
+  std::error_code ec;
+  fs::create_directories(dir / "depth", ec);
+  if (!ec) fs::create_directories(dir / "rgb", ec);
+  if (ec) throw Error(folder + ": cannot create the output folders (" + ec.message() + ")");
+
+  const int total = options.max_frames >= 0 ? std::min(options.max_frames, source.size())
+                                            : source.size();
+  std::vector<FrameRecord> records(size_t(std::max(total, 0)));
+  std::mutex progress_mutex;
+  int done = 0;
+  tbb::parallel_for(0, total, [&](int i) {
+    const RgbdFrame frame = source.load(i);
+    FrameRecord& r = records[size_t(i)];
+    r.timestamp = frame.timestamp;
+    r.pose = frame.T_world_cam_given;
+    const std::string stem = tumTimestampString(frame.timestamp);
+    writePngAtomic(dir / "depth" / (stem + ".png"), depthToPng(frame.depth));
+    if (!frame.color.empty()) {
+      writePngAtomic(dir / "rgb" / (stem + ".png"), colorToPng(frame.color));
+      r.has_color = true;
+    }
+    if (options.progress) {
+      std::lock_guard<std::mutex> lock(progress_mutex);
+      options.progress(++done, total);
+    }
+  });
+  for (int i = 1; i < total; ++i) {
+    if (tumTimestampString(records[i].timestamp) == tumTimestampString(records[i - 1].timestamp))
+      throw Error(folder + ": frames " + std::to_string(i - 1) + " and " + std::to_string(i) +
+                  " share the timestamp " + tumTimestampString(records[i].timestamp) +
+                  " and would overwrite each other's files");
+  }
+
+  const std::string description = source.description();
+  std::ostringstream rgb, depth, gt;
+  rgb << listHeader("color images", description);
+  depth << listHeader("depth maps", description);
+  gt << "# ground truth trajectory (camera-to-world, camera x right y down z forward)\n"
+     << "# written by vdbfuse convert from " << description << "\n"
+     << "# timestamp tx ty tz qx qy qz qw\n";
+  TumWriteResult result;
+  result.frames = total;
+  for (const FrameRecord& r : records) {
+    const std::string ts = tumTimestampString(r.timestamp);
+    depth << ts << " depth/" << ts << ".png\n";
+    if (r.has_color) rgb << ts << " rgb/" << ts << ".png\n";
+    if (r.pose) {
+      const Eigen::Quaterniond q(r.pose->linear());
+      const Eigen::Vector3d t = r.pose->translation();
+      char line[256];
+      std::snprintf(line, sizeof line, "%s %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", ts.c_str(),
+                    t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w());
+      gt << line;
+      ++result.poses;
+    }
+  }
+  const Intrinsics k = source.depthIntrinsics();
+  const Distortion d = source.depthDistortion();
+  char calib[512];
+  std::snprintf(calib, sizeof calib,
+                "# %dx%d, depth registered to RGB; written by vdbfuse convert from %s\n"
+                "# fx fy cx cy\n%.6f %.6f %.6f %.6f\n"
+                "# OpenCV distortion k1 k2 p1 p2 k3\n%.6f %.6f %.6f %.6f %.6f\n"
+                "# depth PNG: uint16, depth_m = value / 5000 ; 0 = invalid\n",
+                k.width, k.height, description.substr(0, 200).c_str(), k.fx, k.fy, k.cx, k.cy,
+                d.k1, d.k2, d.p1, d.p2, d.k3);
+  writeTextAtomic(dir / "rgb.txt", rgb.str());
+  writeTextAtomic(dir / "depth.txt", depth.str());
+  if (result.poses) writeTextAtomic(dir / "groundtruth.txt", gt.str());
+  writeTextAtomic(dir / "camera_intrinsics.txt", calib);
+  return result;
+}
+
+}  // namespace vf
