@@ -1,0 +1,49 @@
+// vdbfuse info: what a scene document holds.
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "app/command_registry.h"
+#include "vdb/scene.h"
+#include "vdb/scene_info.h"
+
+namespace vf::app {
+namespace {
+
+void runInfo(const std::string& path) {
+  const Scene scene = readScene(path);
+  const SceneSummary s = summarizeScene(scene);
+  const SceneMetadata& m = scene.meta;
+  std::printf("scene        %s\n", path.c_str());
+  std::printf("source       %s (%d frames, vdbfuse %s)\n", m.source.empty() ? "?" : m.source.c_str(), m.frame_count,
+              m.software_version.c_str());
+  std::printf("voxel        %.2f mm, truncation %.2f mm\n", m.voxel_size_m * 1e3, m.truncation_m * 1e3);
+  std::printf("active       %zu voxels (%zu on the surface)\n", s.active_voxels, s.surface_voxels);
+  if (!s.empty)
+    std::printf("bounds       [%.3f %.3f %.3f] .. [%.3f %.3f %.3f] m (%.2f x %.2f x %.2f m)\n", s.bounds_min_m.x,
+                s.bounds_min_m.y, s.bounds_min_m.z, s.bounds_max_m.x, s.bounds_max_m.y, s.bounds_max_m.z,
+                s.bounds_max_m.x - s.bounds_min_m.x, s.bounds_max_m.y - s.bounds_min_m.y,
+                s.bounds_max_m.z - s.bounds_min_m.z);
+  std::printf("memory       %.1f MiB\n\ngrids\n", s.memory_bytes / 1048576.0);
+  for (const GridSummary& g : s.grids)
+    std::printf("  %-17s %-7s %12zu active %9.1f MiB\n", g.name.c_str(), g.value_type.c_str(), g.active_voxels,
+                g.memory_bytes / 1048576.0);
+  if (!m.classes.empty() || !s.classes.empty()) {
+    std::printf("\nclasses (%zu in table)\n", m.classes.classes.size());
+    for (const ClassVoxelCount& c : s.classes)
+      std::printf("  %5d %-24s %12zu voxels\n", c.id, c.name.c_str(), c.voxels);
+  }
+}
+
+void setup(CLI::App& root) {
+  auto path = std::make_shared<std::string>();
+  CLI::App* cmd = root.add_subcommand("info", "Show a scene's grids, active voxels, bounds, memory and classes");
+  cmd->add_option("scene", *path, "scene document (.vdb)")->required();
+  cmd->callback([path] { runInfo(*path); });
+}
+
+}  // namespace
+
+VF_REGISTER_COMMAND(30, setup);
+
+}  // namespace vf::app

@@ -1,0 +1,72 @@
+// `vdbfuse export --blender` end to end, and the Blender import script when Blender is installed.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "io/mesh_io.h"
+#include "synthetic_scene.h"
+#include "test_data.h"
+#include "vdb/mesher.h"
+#include "vdb/scene.h"
+
+namespace vf {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string run(const std::string& command, int& status) {
+  std::string out;
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  char buf[4096];
+  while (pipe && fgets(buf, sizeof buf, pipe)) out += buf;
+  status = pipe ? pclose(pipe) : -1;
+  return out;
+}
+
+std::string exportSphere(const std::string& name, TriangleMesh* full) {
+  DenseVolume volume(test::sphereSpec(), true);
+  test::fillSdf(volume, test::sphereSdf({0, 0, 0}, 0.2f), 0.f);
+  SceneMetadata meta;
+  meta.classes.classes = {{test::kClassLeft, "chair", {255, 0, 0, 255}}, {test::kClassRight, "dining table", {0, 0, 255, 255}}};
+  const Scene scene = sceneFromDenseVolume(volume, meta);
+  *full = meshScene(scene);
+  const std::string dir = test::tempDir(name);
+  writeScene(scene, dir + "/scene.vdb");
+  int status = 0;
+  const std::string out = run(std::string(VDBFUSE_EXE) + " export " + dir + "/scene.vdb --blender -o " + dir + "/blend", status);
+  EXPECT_EQ(status, 0) << out;
+  return dir + "/blend";
+}
+
+TEST(BlenderExport, FolderHoldsPerClassMeshesVolumeAndManifest) {
+  TriangleMesh full;
+  const std::string dir = exportSphere("blender_export", &full);
+  ASSERT_TRUE(fs::exists(dir + "/chair.ply"));
+  ASSERT_TRUE(fs::exists(dir + "/dining_table.ply"));
+  ASSERT_TRUE(fs::exists(dir + "/volume.vdb"));
+  ASSERT_TRUE(fs::exists(dir + "/scene.json"));
+  const TriangleMesh a = readPly(dir + "/chair.ply"), b = readPly(dir + "/dining_table.ply");
+  EXPECT_EQ(a.triangleCount() + b.triangleCount(), full.triangleCount());
+  EXPECT_TRUE(a.hasColors());
+  EXPECT_GT(a.triangleCount(), 1000u);
+}
+
+TEST(BlenderExport, ImportScriptLoadsTheFolder) {
+  int status = 0;
+  run("command -v blender", status);
+  if (status != 0) GTEST_SKIP() << "blender is not installed: the import script was not run";
+  TriangleMesh full;
+  const std::string dir = exportSphere("blender_import", &full);
+  const std::string out = run("blender -b --factory-startup --python " + std::string(VDBFUSE_SOURCE_DIR) +
+                                  "/samples/blender/import_scene.py -- " + dir + " --save " + dir + "/scene.blend",
+                              status);
+  EXPECT_EQ(status, 0) << out;
+  EXPECT_NE(out.find("vdbfuse: imported 2 meshes and 1 volume(s)"), std::string::npos) << out;
+  EXPECT_TRUE(fs::exists(dir + "/scene.blend")) << out;
+}
+
+}  // namespace
+}  // namespace vf
