@@ -40,13 +40,16 @@ void runMesh(const MeshCommandOptions& o) {
   options.color = o.color == "class" ? MeshColorMode::kClass : MeshColorMode::kRgb;
   if (options.color == MeshColorMode::kClass && !scene.hasClasses())
     throw Error("--color class: the scene has no class grid (fused without labels)");
+  // Resolve class names before the work so that a typo fails at once.
+  const bool include = !o.include.empty(), filter = include || !o.exclude.empty();
+  std::set<int> ids;
+  if (filter)
+    ids = resolveClassSelection(scene.meta.classes, include ? o.include : o.exclude,
+                                include ? "--include-classes" : "--exclude-classes");
   TriangleMesh mesh = meshScene(scene, options);
   std::printf("meshed %zu triangles, %zu vertices (min weight %.1f)\n", mesh.triangleCount(), mesh.vertexCount(),
               o.min_weight);
-  if (!o.include.empty() || !o.exclude.empty()) {
-    const bool include = !o.include.empty();
-    const std::set<int> ids = resolveClassSelection(scene.meta.classes, include ? o.include : o.exclude,
-                                                    include ? "--include-classes" : "--exclude-classes");
+  if (filter) {
     const size_t before = mesh.triangleCount();
     mesh = filterFacesByClass(mesh, ids, include);
     std::printf("%s %s: %zu triangles removed\n", include ? "kept only" : "excluded",
