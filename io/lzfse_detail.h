@@ -47,6 +47,14 @@ inline void copyMatch(uint8_t* dst, size_t dist, size_t len, bool wild) {
     for (size_t i = 0; i < len; i += 16) std::memcpy(dst + i, from + i, 16);
   } else if (wild && dist >= 8) {
     for (size_t i = 0; i < len; i += 8) std::memcpy(dst + i, from + i, 8);
+  } else if (wild) {
+    // Short period (runs of equal floats or bytes): the output repeats every `dist` bytes, so it
+    // also repeats every multiple of it. After eff - dist single bytes, 8-byte steps from eff
+    // bytes back (eff = the first multiple of dist >= 8) read only bytes already written.
+    const size_t eff = dist * ((8 + dist - 1) / dist);
+    size_t i = 0;
+    for (; i < eff - dist && i < len; ++i) dst[i] = from[i];
+    for (; i < len; i += 8) std::memcpy(dst + i, dst + i - eff, 8);
   } else if (dist >= len) {
     std::memcpy(dst, from, len);
   } else {
