@@ -1,10 +1,17 @@
 #pragma once
 // Atomics written once for host (GCC builtins) and device (CUDA intrinsics).
 #include <cstdint>
+#include <cstring>
 
 #include "core/hd.h"
 
 namespace vf {
+
+VF_HD int __float_as_int_vf(float f) {
+  int i;
+  memcpy(&i, &f, sizeof(i));
+  return i;
+}
 
 VF_HD int atomicIncrement(int* counter) {
 #if defined(__CUDA_ARCH__)
@@ -14,12 +21,37 @@ VF_HD int atomicIncrement(int* counter) {
 #endif
 }
 
-// Many threads may store the same value to the same word (brick marking); make that well defined.
-VF_HD void storeRelaxed(uint32_t* word, uint32_t value) {
+// Returns the previous value; many threads may race on the same word (brick marking).
+VF_HD uint32_t exchange(uint32_t* word, uint32_t value) {
 #if defined(__CUDA_ARCH__)
-  *reinterpret_cast<volatile uint32_t*>(word) = value;
+  return atomicExch(word, value);
 #else
-  __atomic_store_n(word, value, __ATOMIC_RELAXED);
+  return __atomic_exchange_n(word, value, __ATOMIC_RELAXED);
+#endif
+}
+
+// Min / max of non-negative floats through their bit patterns, which order like the integers.
+VF_HD void atomicMinNonNegative(float* target, float value) {
+  int* word = reinterpret_cast<int*>(target);
+  const int bits = __float_as_int_vf(value);
+#if defined(__CUDA_ARCH__)
+  atomicMin(word, bits);
+#else
+  int seen = __atomic_load_n(word, __ATOMIC_RELAXED);
+  while (bits < seen && !__atomic_compare_exchange_n(word, &seen, bits, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED)) {
+  }
+#endif
+}
+
+VF_HD void atomicMaxNonNegative(float* target, float value) {
+  int* word = reinterpret_cast<int*>(target);
+  const int bits = __float_as_int_vf(value);
+#if defined(__CUDA_ARCH__)
+  atomicMax(word, bits);
+#else
+  int seen = __atomic_load_n(word, __ATOMIC_RELAXED);
+  while (bits > seen && !__atomic_compare_exchange_n(word, &seen, bits, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED)) {
+  }
 #endif
 }
 

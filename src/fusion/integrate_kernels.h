@@ -19,6 +19,8 @@ struct MarkBricksKernel {
   Rigid3f T_world_cam;
   VolumeView volume;
   uint32_t stamp = 1;
+  int* allocated_list;   // every brick ever touched, appended on first touch
+  int* allocated_count;
   int stride_px = 2;
   float step_vox = 2.f;
 
@@ -48,8 +50,11 @@ struct MarkBricksKernel {
       for (int bz = bz0; bz <= bz1; ++bz)
         for (int by = by0; by <= by1; ++by)
           for (int bx = bx0; bx <= bx1; ++bx) {
-            uint32_t* s = volume.brick_stamp + volume.brickIndex(bx, by, bz);
-            if (loadRelaxed(s) != stamp) storeRelaxed(s, stamp);
+            const int brick = volume.brickIndex(bx, by, bz);
+            uint32_t* s = volume.brick_stamp + brick;
+            // The exchange tells exactly one thread that the brick is new: it is listed once.
+            if (loadRelaxed(s) != stamp && exchange(s, stamp) == 0)
+              allocated_list[atomicIncrement(allocated_count)] = brick;
           }
     }
   }

@@ -27,8 +27,12 @@ struct Pipeline::Buffers {
   ImageBuffer<Vec3f> vertex[kLevels], normal[kLevels];              // measured, camera frame
   ImageBuffer<Vec3f> model_vertex[kLevels], model_normal[kLevels];  // predicted, world frame
   ImageBuffer<Rgb8> model_color;
-  Buffer<int> brick_list;
+  Buffer<int> brick_list;        // bricks touched by the current frame
   Buffer<int> brick_count;
+  Buffer<int> allocated_list;    // bricks touched by any frame, in order of first touch
+  Buffer<int> allocated_count;
+  Buffer<float> range_min, range_max;  // per-tile ray depth bounds
+  int tiles_x = 0, tiles_y = 0;
   // Volume arrays when they live on the GPU (the CPU backend uses host_volume_ directly).
   Buffer<TsdfVoxel> tsdf;
   Buffer<Rgb8> voxel_color;
@@ -108,6 +112,12 @@ Pipeline::Pipeline(const PipelineParams& params, const Intrinsics& depth_intrins
   b.model_color.allocate(d, w, h);
   b.brick_list.allocate(d, size_t(volume_.brickCount()));
   b.brick_count.allocate(d, 1);
+  b.allocated_list.allocate(d, size_t(volume_.brickCount()));
+  b.allocated_count.allocate(d, 1);
+  b.tiles_x = (w + kRangeTilePx - 1) / kRangeTilePx;
+  b.tiles_y = (h + kRangeTilePx - 1) / kRangeTilePx;
+  b.range_min.allocate(d, size_t(b.tiles_x) * b.tiles_y);
+  b.range_max.allocate(d, size_t(b.tiles_x) * b.tiles_y);
 }
 
 Pipeline::~Pipeline() = default;
@@ -263,9 +273,12 @@ void Pipeline::integrate() {
   mark.T_world_cam = T_world_cam;
   mark.volume = volume_;
   mark.stamp = stamp;
+  mark.allocated_list = b.allocated_list.data();
+  mark.allocated_count = b.allocated_count.data();
   const int cols = (intrinsics_.width + mark.stride_px - 1) / mark.stride_px;
   const int rows = (intrinsics_.height + mark.stride_px - 1) / mark.stride_px;
   parallelFor(device_, cols * rows, mark);
+  b.allocated_count.download(&allocated_bricks_, 1);
 
   b.brick_count.zero();
   parallelFor(device_, volume_.brickCount(),
@@ -290,6 +303,20 @@ void Pipeline::integrate() {
 
 void Pipeline::raycast(const Pose& T_world_cam, bool with_color) {
   Buffers& b = *buffers_;
+  const int tiles = b.tiles_x * b.tiles_y;
+  parallelFor(device_, tiles, ClearRangeKernel{b.range_min.data(), b.range_max.data()});
+  BrickRangeKernel range;
+  range.volume = volume_;
+  range.bricks = b.allocated_list.data();
+  range.intrinsics = intrinsics_;
+  range.T_cam_world = toRigid3f(T_world_cam.inverse());
+  range.near_m = params_.measurement.min_depth_m;
+  range.range_min = b.range_min.data();
+  range.range_max = b.range_max.data();
+  range.tiles_x = b.tiles_x;
+  range.tiles_y = b.tiles_y;
+  parallelFor(device_, allocated_bricks_, range);
+
   RaycastKernel ray;
   ray.volume = volume_;
   ray.intrinsics = intrinsics_;
@@ -301,6 +328,9 @@ void Pipeline::raycast(const Pose& T_world_cam, bool with_color) {
   ray.vertex = b.model_vertex[0].view();
   ray.normal = b.model_normal[0].view();
   if (with_color) ray.color = b.model_color.view();
+  ray.range_min = b.range_min.data();
+  ray.range_max = b.range_max.data();
+  ray.tiles_x = b.tiles_x;
   parallelFor(device_, b.model_vertex[0].size(), ray);
   for (int l = 1; l < kLevels; ++l)
     parallelFor(device_, b.model_vertex[l].size(),

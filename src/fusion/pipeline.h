@@ -92,6 +92,7 @@ class Pipeline {
   bool has_labels_ = false;
   int frames_processed_ = 0;
   int frames_lost_ = 0;
+  int allocated_bricks_ = 0;  // length of the allocated-brick list
   StageTimer timer_;
 };
 

@@ -6,14 +6,14 @@
 
 namespace vf {
 
-// g: continuous voxel coordinate (integers are voxel centres). Returns false when a corner lies
-// outside the volume or was never observed. out: normalised TSDF in [-1, 1].
-VF_HD bool sampleTsdf(const VolumeView& volume, Vec3f g, float& out) {
+// Reads the 8 voxels around g. Returns false when a corner lies outside the volume or was never
+// observed (its zero would fake a surface). f receives the fractional position in the cell.
+VF_HD bool cellCorners(const VolumeView& volume, Vec3f g, float corners[8], Vec3f& f) {
   const float fx0 = floorf(g.x), fy0 = floorf(g.y), fz0 = floorf(g.z);
   const int x = int(fx0), y = int(fy0), z = int(fz0);
   if (x < 0 || y < 0 || z < 0 || x + 1 >= volume.dims.x || y + 1 >= volume.dims.y || z + 1 >= volume.dims.z)
     return false;
-  const float fx = g.x - fx0, fy = g.y - fy0, fz = g.z - fz0;
+  f = {g.x - fx0, g.y - fy0, g.z - fz0};
   TsdfVoxel c[8];
   if ((x & 7) != 7 && (y & 7) != 7 && (z & 7) != 7) {
     // All eight corners in one brick: fixed offsets from the first.
@@ -24,15 +24,38 @@ VF_HD bool sampleTsdf(const VolumeView& volume, Vec3f g, float& out) {
     for (int k = 0; k < 8; ++k)
       c[k] = volume.tsdf[volume.voxelIndex(x + (k & 1), y + ((k >> 1) & 1), z + (k >> 2))];
   }
-  for (int k = 0; k < 8; ++k)
+  for (int k = 0; k < 8; ++k) {
     if (c[k].weight == 0) return false;
-  const float s = 1.f / kTsdfScale;
-  const float c00 = c[0].tsdf + fx * (c[1].tsdf - c[0].tsdf);
-  const float c10 = c[2].tsdf + fx * (c[3].tsdf - c[2].tsdf);
-  const float c01 = c[4].tsdf + fx * (c[5].tsdf - c[4].tsdf);
-  const float c11 = c[6].tsdf + fx * (c[7].tsdf - c[6].tsdf);
-  const float c0 = c00 + fy * (c10 - c00), c1 = c01 + fy * (c11 - c01);
-  out = (c0 + fz * (c1 - c0)) * s;
+    corners[k] = float(c[k].tsdf) * (1.f / kTsdfScale);
+  }
+  return true;
+}
+
+// Trilinear TSDF at continuous voxel coordinate g (integers are voxel centres), normalised to
+// [-1, 1]; false where any corner is unobserved or outside.
+VF_HD bool sampleTsdf(const VolumeView& volume, Vec3f g, float& out) {
+  float c[8];
+  Vec3f f;
+  if (!cellCorners(volume, g, c, f)) return false;
+  const float c00 = c[0] + f.x * (c[1] - c[0]), c10 = c[2] + f.x * (c[3] - c[2]);
+  const float c01 = c[4] + f.x * (c[5] - c[4]), c11 = c[6] + f.x * (c[7] - c[6]);
+  const float c0 = c00 + f.y * (c10 - c00), c1 = c01 + f.y * (c11 - c01);
+  out = c0 + f.z * (c1 - c0);
+  return true;
+}
+
+// The trilinear value and its analytic gradient (per voxel) from the same 8 corners.
+VF_HD bool sampleTsdfGradient(const VolumeView& volume, Vec3f g, float& out, Vec3f& gradient) {
+  float c[8];
+  Vec3f f;
+  if (!cellCorners(volume, g, c, f)) return false;
+  const float c00 = c[0] + f.x * (c[1] - c[0]), c10 = c[2] + f.x * (c[3] - c[2]);
+  const float c01 = c[4] + f.x * (c[5] - c[4]), c11 = c[6] + f.x * (c[7] - c[6]);
+  const float c0 = c00 + f.y * (c10 - c00), c1 = c01 + f.y * (c11 - c01);
+  out = c0 + f.z * (c1 - c0);
+  const float dx0 = (c[1] - c[0]) + f.y * ((c[3] - c[2]) - (c[1] - c[0]));
+  const float dx1 = (c[5] - c[4]) + f.y * ((c[7] - c[6]) - (c[5] - c[4]));
+  gradient = {dx0 + f.z * (dx1 - dx0), (c10 - c00) + f.z * ((c11 - c01) - (c10 - c00)), c1 - c0};
   return true;
 }
 
