@@ -174,17 +174,28 @@ TumDataset::TumDataset(const std::string& folder, TumOptions options)
   for (const TimedFile& f : rgb) rgb_t.push_back(f.timestamp);
   // Keep depth.txt order (associateTimestamps returns pairs sorted by depth index).
   std::vector<int> partner(depth.size(), -1);
-  for (const auto& [d, c] : associateTimestamps(depth_t, rgb_t, options_.max_time_difference_s)) partner[size_t(d)] = c;
+  if (options_.exclusive_color) {
+    for (const auto& [d, c] : associateTimestamps(depth_t, rgb_t, options_.max_time_difference_s))
+      partner[size_t(d)] = c;
+  } else {
+    for (size_t i = 0; i < depth.size(); ++i) {
+      double best = options_.max_time_difference_s;
+      for (size_t j = 0; j < rgb.size(); ++j)
+        if (std::abs(rgb_t[j] - depth_t[i]) <= best) best = std::abs(rgb_t[j] - depth_t[i]), partner[i] = int(j);
+    }
+  }
   for (size_t i = 0; i < depth.size(); ++i) {
     if (partner[i] >= 0) {
       frames_.push_back({depth[i], rgb[size_t(partner[i])]});
-    } else {
-      ++unassociated_;
-      char t[32];
-      std::snprintf(t, sizeof t, "%.6f", depth[i].timestamp);
-      warnings_.push_back("depth frame " + depth[i].path + " (t = " + t + " s) has no colour image within " +
-                          seconds(options_.max_time_difference_s) + " in " + rgb_list + "; left out");
+      continue;
     }
+    ++unassociated_;
+    char t[32];
+    std::snprintf(t, sizeof t, "%.6f", depth[i].timestamp);
+    const std::string what = options_.exclusive_color ? "; left out" : "; fused without colour";
+    warnings_.push_back("depth frame " + depth[i].path + " (t = " + t + " s) has no colour image within " +
+                        seconds(options_.max_time_difference_s) + " in " + rgb_list + what);
+    if (!options_.exclusive_color) frames_.push_back({depth[i], TimedFile{}});
   }
   if (frames_.empty())
     throw Error("no depth frame of " + depth_list + " has a colour image within " +
@@ -208,9 +219,14 @@ TumDataset::TumDataset(const std::string& folder, TumOptions options)
   }
 
   const DepthImage first_depth = readDepthPng(depthPath(0), options_.depth_units_per_metre);
-  const ColorImage first_color = readColorImage(colorPath(0));
+  int first_colored = 0;
+  while (first_colored < size() && frames_[size_t(first_colored)].color.path.empty()) ++first_colored;
+  if (first_colored == size())
+    throw Error("no depth frame of " + depth_list + " has a colour image within " +
+                seconds(options_.max_time_difference_s) + " in " + rgb_list);
+  const ColorImage first_color = readColorImage(colorPath(first_colored));
   if (first_color.width() != first_depth.width() || first_color.height() != first_depth.height())
-    throw Error("colour image " + colorPath(0) + " is " + std::to_string(first_color.width()) + "x" +
+    throw Error("colour image " + colorPath(first_colored) + " is " + std::to_string(first_color.width()) + "x" +
                 std::to_string(first_color.height()) + " but depth image " + depthPath(0) + " is " +
                 std::to_string(first_depth.width()) + "x" + std::to_string(first_depth.height()) +
                 "; TUM depth must be registered to colour at the same size");
@@ -235,7 +251,8 @@ std::string TumDataset::depthPath(int index) const {
 
 std::string TumDataset::colorPath(int index) const {
   checkIndex(index);
-  return (fs::path(folder_) / frames_[size_t(index)].color.path).string();
+  const std::string& path = frames_[size_t(index)].color.path;
+  return path.empty() ? std::string() : (fs::path(folder_) / path).string();
 }
 
 Distortion TumDataset::depthDistortion() const { return undistorter_ ? Distortion{} : calibration_.distortion; }
@@ -245,7 +262,9 @@ std::string TumDataset::description() const {
                   std::to_string(intrinsics_.width) + "x" + std::to_string(intrinsics_.height) +
                   ", intrinsics from " + calibration_.source;
   if (undistorter_) d += ", undistorted";
-  if (unassociated_) d += ", " + std::to_string(unassociated_) + " depth frames without colour left out";
+  if (unassociated_)
+    d += ", " + std::to_string(unassociated_) +
+         (options_.exclusive_color ? " depth frames without colour left out" : " depth frames fused without colour");
   if (!ground_truth_.empty()) d += ", ground truth " + std::to_string(ground_truth_.size()) + " poses";
   return d;
 }
@@ -262,18 +281,18 @@ RgbdFrame TumDataset::load(int index) const {
   frame.timestamp = e.depth.timestamp;
   frame.name = stem(e.depth.path);
   frame.depth = readDepthPng(depthPath(index), options_.depth_units_per_metre);
-  frame.color = readColorImage(colorPath(index));
+  if (!e.color.path.empty()) frame.color = readColorImage(colorPath(index));
   if (frame.depth.width() != intrinsics_.width || frame.depth.height() != intrinsics_.height)
     throw Error("depth image " + depthPath(index) + " is " + std::to_string(frame.depth.width()) + "x" +
                 std::to_string(frame.depth.height()) + ", the sequence is " + std::to_string(intrinsics_.width) +
                 "x" + std::to_string(intrinsics_.height));
-  if (frame.color.width() != frame.depth.width() || frame.color.height() != frame.depth.height())
+  if (!frame.color.empty() && (frame.color.width() != frame.depth.width() || frame.color.height() != frame.depth.height()))
     throw Error("colour image " + colorPath(index) + " is " + std::to_string(frame.color.width()) + "x" +
                 std::to_string(frame.color.height()) + " but its depth image " + depthPath(index) + " is " +
                 std::to_string(frame.depth.width()) + "x" + std::to_string(frame.depth.height()));
   if (undistorter_) {
     frame.depth = undistorter_->undistortDepth(frame.depth);
-    frame.color = undistorter_->undistortColor(frame.color);
+    if (!frame.color.empty()) frame.color = undistorter_->undistortColor(frame.color);
   }
   if (options_.attach_groundtruth) frame.T_world_cam_given = groundTruthAt(index);
   return frame;

@@ -48,6 +48,11 @@ struct TumOptions {
   float depth_units_per_metre = kTumDepthUnitsPerMetre;
   bool undistort = true;  // remove the lens distortion when it is non-zero (freiburg1)
   double max_time_difference_s = kTumMaxTimeDifference_s;
+  // associate.py's pairing: each colour image serves at most one depth frame and depth frames
+  // left without a partner are dropped. Off (the default), every depth frame takes the nearest
+  // colour image within max_time_difference_s, shared or not, and a depth frame with none is
+  // still fused, without colour: a SLAM run should not lose frames to a pairing convention.
+  bool exclusive_color = false;
   // Attach the ground-truth pose nearest in time (within max_time_difference_s) to each frame
   // as RgbdFrame::T_world_cam_given.
   bool attach_groundtruth = true;
@@ -76,8 +81,8 @@ class TumDataset : public FrameSource {
   std::string depthPath(int index) const;
   std::string colorPath(int index) const;
 
-  // One line per depth frame left out because no colour image lies within
-  // max_time_difference_s (as associate.py leaves it out); size() counts only associated frames.
+  // One line per depth frame without a colour image within max_time_difference_s: fused
+  // without colour, or (exclusive_color) left out as associate.py does.
   const std::vector<std::string>& warnings() const { return warnings_; }
   int unassociatedCount() const { return unassociated_; }
 

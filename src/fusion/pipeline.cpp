@@ -144,7 +144,8 @@ void Pipeline::measure(const RgbdFrame& frame) {
                 std::to_string(frame.depth.height()) + ", the camera is " + std::to_string(w) + "x" +
                 std::to_string(h));
   b.raw_depth.buffer.upload(frame.depth.data(), size_t(w) * h);
-  if (!frame.color.empty()) {
+  has_color_ = !frame.color.empty();
+  if (has_color_) {
     if (frame.color.width() != w || frame.color.height() != h)
       throw Error("frame " + frame.name + ": color size differs from depth size");
     b.color.buffer.upload(frame.color.data(), size_t(w) * h);
@@ -290,7 +291,7 @@ void Pipeline::integrate() {
   kernel.volume = volume_;
   kernel.bricks = b.brick_list.data();
   kernel.depth = has_labels_ ? constView(b.raw_depth) : depth;
-  kernel.color = constView(b.color);
+  if (has_color_) kernel.color = constView(b.color);
   if (has_labels_) {
     kernel.labels = constView(b.labels);
     kernel.static_mask = constView(b.static_mask);
@@ -298,6 +299,9 @@ void Pipeline::integrate() {
   kernel.intrinsics = intrinsics_;
   kernel.T_cam_world = toRigid3f(T_world_cam_.inverse());
   kernel.max_weight = params_.integration.max_weight;
+  kernel.probabilistic_vote = params_.integration.class_vote == ClassVote::Probabilistic;
+  kernel.vote_seed = params_.integration.class_vote_seed;
+  kernel.stamp = stamp;
   parallelFor(device_, brick_count * kBrickVoxels, kernel);
 }
 

@@ -90,6 +90,7 @@ class Pipeline {
   std::optional<Pose> last_given_pose_;
   bool has_prediction_ = false;
   bool has_labels_ = false;
+  bool has_color_ = false;
   int frames_processed_ = 0;
   int frames_lost_ = 0;
   int allocated_bricks_ = 0;  // length of the allocated-brick list

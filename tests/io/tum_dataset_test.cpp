@@ -72,9 +72,27 @@ TEST(TumAssociation, SmallestDifferenceWinsOverListOrder) {
   EXPECT_EQ(m[0], std::make_pair(1, 0));
 }
 
-TEST(TumDataset, CraftedFolderReportsTheUnassociatedFrame) {
-  const CraftedTum tum("tum_crafted", {10.000, 10.033, 10.100, 10.133}, {10.010, 10.040, 10.140});
+TEST(TumDataset, CraftedFolderFusesAndReportsTheFrameWithoutColour) {
+  const CraftedTum tum("tum_crafted_all", {10.000, 10.033, 10.100, 10.133}, {10.010, 10.040, 10.140});
   const TumDataset ds(tum.dir);
+  ASSERT_EQ(ds.size(), 4);
+  EXPECT_EQ(ds.unassociatedCount(), 1);
+  ASSERT_EQ(ds.warnings().size(), 1u);
+  EXPECT_NE(ds.warnings()[0].find("depth/10.100000.png"), std::string::npos) << ds.warnings()[0];
+  EXPECT_NE(ds.warnings()[0].find("fused without colour"), std::string::npos) << ds.warnings()[0];
+  const RgbdFrame no_color = ds.load(2);
+  EXPECT_TRUE(no_color.color.empty());
+  EXPECT_FLOAT_EQ(no_color.depth(3, 3), 1.0f);
+  EXPECT_EQ(ds.colorPath(2), "");
+  // A colour image may serve two depth frames: 10.133 takes 10.140 like 10.100 would have.
+  EXPECT_EQ(ds.colorPath(3), tum.dir + "/rgb/10.140000.png");
+}
+
+TEST(TumDataset, ExclusivePairingLeavesOutAndReportsTheUnassociatedFrame) {
+  const CraftedTum tum("tum_crafted", {10.000, 10.033, 10.100, 10.133}, {10.010, 10.040, 10.140});
+  TumOptions options;
+  options.exclusive_color = true;
+  const TumDataset ds(tum.dir, options);
   ASSERT_EQ(ds.size(), 3);
   EXPECT_EQ(ds.unassociatedCount(), 1);
   ASSERT_EQ(ds.warnings().size(), 1u);
@@ -185,8 +203,13 @@ TEST(TumDataset, ErrorsNameTheFile) {
 
 TEST(TumDatasetReal, Freiburg1XyzHead100) {
   VF_REQUIRE_DATA(dir, "tum_fr1_xyz_head100");
-  const TumDataset ds(dir);
-  // 100 depth frames; TUM's associate.py (greedy, 0.02 s) pairs 95 of them: rgb 1305031102.211214
+  // Every one of the 100 depth frames has a colour image within 0.02 s when images may be shared.
+  EXPECT_EQ(TumDataset(dir).size(), 100);
+  EXPECT_EQ(TumDataset(dir).unassociatedCount(), 0);
+  TumOptions exclusive;
+  exclusive.exclusive_color = true;
+  const TumDataset ds(dir, exclusive);
+  // TUM's associate.py (greedy, 0.02 s, one-to-one) pairs 95 of them: rgb 1305031102.211214
   // is nearer to depth .226738 (15.5 ms) than to .194330 (16.9 ms), so .194330 has no partner left.
   // Same for .494271, .594158, .894167 and 1305031103.191061.
   EXPECT_EQ(ds.size(), 95);
