@@ -1,0 +1,39 @@
+#pragma once
+// Turning CUDA status codes into vf::Error (DESIGN.md: CUDA errors throw, never exit()).
+// Internal to cuda/: compiled by nvcc only.
+#include <cuda_runtime_api.h>
+
+#include <cstddef>
+#include <mutex>
+#include <string>
+
+namespace vf::cuda::detail {
+
+// Throws vf::Error "CUDA <call> failed: <name> (<description>)" unless status is cudaSuccess.
+// Non-sticky errors are cleared first, so the next call does not report this one again.
+void check(cudaError_t status, const std::string& call);
+
+// Device scratch for parallelReduce: partial rows per block and the final sums, allocated on
+// first use and kept for the life of the process (no cudaMalloc per reduction). An instance is
+// a lease that holds a lock, so concurrent host threads take turns (the GPU serialises the
+// kernels anyway).
+class ReduceScratch {
+ public:
+  ReduceScratch(size_t partial_floats, size_t sum_doubles);
+  ReduceScratch(const ReduceScratch&) = delete;
+  ReduceScratch& operator=(const ReduceScratch&) = delete;
+  float* partials() const { return partials_; }
+  double* sums() const { return sums_; }
+
+  // Sums component k of `blocks` partial rows of n_components floats (in double, fixed order,
+  // on the GPU) and copies the n_components doubles to out; waits for and checks all kernels
+  // queued before it. `what` names the reduction in error messages.
+  void sumToHost(int blocks, int n_components, double* out, const std::string& what) const;
+
+ private:
+  std::unique_lock<std::mutex> lock_;
+  float* partials_ = nullptr;
+  double* sums_ = nullptr;
+};
+
+}  // namespace vf::cuda::detail

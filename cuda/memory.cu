@@ -1,0 +1,209 @@
+// Device memory, copies and device discovery for the CUDA backend (fusion/cuda_api.h).
+// Every failing CUDA call throws vf::Error naming the call and CUDA's message; deviceCount() is
+// the one exception: it answers 0 and remembers why, so that callers can fall back to the CPU.
+#include <mutex>
+#include <string>
+
+#include "check.h"
+#include "core/error.h"
+#include "fusion/cuda_api.h"
+
+namespace vf::cuda {
+namespace detail {
+
+void check(cudaError_t status, const std::string& call) {
+  if (status == cudaSuccess) return;
+  (void)cudaGetLastError();  // clear a non-sticky error; a sticky one stays (the context is lost)
+  throw Error(std::string("CUDA ") + call + " failed: " + cudaGetErrorName(status) + " (" +
+              cudaGetErrorString(status) + ")");
+}
+
+namespace {
+
+// A kernel compiled like every fusion kernel: if it has no image for the GPU's architecture,
+// neither have they, and the GPU is reported unusable instead of failing at the first launch.
+__global__ void probeKernel() {}
+
+struct Discovery {
+  int count = 0;
+  std::string reason;
+};
+
+Discovery discover() {
+  Discovery d;
+  int count = 0;
+  cudaError_t status = cudaGetDeviceCount(&count);
+  if (status != cudaSuccess) {
+    (void)cudaGetLastError();
+    int driver = 0, runtime = 0;
+    (void)cudaDriverGetVersion(&driver);  // 0 when no driver (libcuda.so) is installed
+    (void)cudaRuntimeGetVersion(&runtime);
+    (void)cudaGetLastError();
+    const auto version = [](int v) { return std::to_string(v / 1000) + "." + std::to_string(v % 1000 / 10); };
+    if (driver == 0)
+      d.reason = "no NVIDIA driver is installed (";
+    else if (driver < runtime)
+      d.reason = "the NVIDIA driver supports CUDA " + version(driver) + ", this build needs " + version(runtime) + " (";
+    else
+      d.reason = "the CUDA driver found no usable GPU (";
+    d.reason += std::string("cudaGetDeviceCount: ") + cudaGetErrorName(status) + ")";
+    return d;
+  }
+  if (count == 0) {
+    d.reason = "the CUDA driver reports no GPU";
+    return d;
+  }
+  cudaFuncAttributes attributes;
+  status = cudaFuncGetAttributes(&attributes, probeKernel);
+  if (status != cudaSuccess) {
+    (void)cudaGetLastError();
+    cudaDeviceProp prop{};
+    const bool have_prop = cudaGetDeviceProperties(&prop, 0) == cudaSuccess;
+    d.reason = std::string("GPU 0 cannot run this build: ") + cudaGetErrorName(status) + ", " +
+               cudaGetErrorString(status);
+    if (have_prop)
+      d.reason += " (GPU " + std::string(prop.name) + " is sm_" + std::to_string(prop.major) +
+                  std::to_string(prop.minor) + "; rebuild with -DCMAKE_CUDA_ARCHITECTURES=" +
+                  std::to_string(prop.major) + std::to_string(prop.minor) + ")";
+    return d;
+  }
+  d.count = count;
+  return d;
+}
+
+const Discovery& discovery() {
+  static const Discovery d = discover();  // thread-safe once; the driver answer does not change
+  return d;
+}
+
+}  // namespace
+}  // namespace detail
+
+int deviceCount() { return detail::discovery().count; }
+
+std::string lastErrorDescription() {
+  const detail::Discovery& d = detail::discovery();
+  return d.count > 0 ? std::string() : d.reason;
+}
+
+void* allocate(size_t bytes) {
+  if (bytes == 0) return nullptr;
+  void* ptr = nullptr;
+  const cudaError_t status = cudaMalloc(&ptr, bytes);
+  if (status != cudaSuccess) {
+    const std::string call = "cudaMalloc(" + std::to_string(bytes / double(1 << 20)) + " MiB)";
+    size_t free_bytes = 0, total_bytes = 0;
+    (void)cudaGetLastError();
+    std::string extra;
+    if (cudaMemGetInfo(&free_bytes, &total_bytes) == cudaSuccess)
+      extra = "; " + std::to_string(free_bytes >> 20) + " of " + std::to_string(total_bytes >> 20) +
+              " MiB free on the GPU (a smaller --volume or voxel count needs less)";
+    (void)cudaGetLastError();
+    throw Error(std::string("CUDA ") + call + " failed: " + cudaGetErrorName(status) + " (" +
+                cudaGetErrorString(status) + ")" + extra);
+  }
+  return ptr;
+}
+
+void release(void* ptr) noexcept {
+  if (!ptr) return;
+  // Called from destructors, also after a sticky error or during process exit when the runtime
+  // is already unloading: nothing useful can be done with a failure here.
+  (void)cudaFree(ptr);
+  (void)cudaGetLastError();
+}
+
+void copyToDevice(void* dst, const void* src, size_t bytes) {
+  if (bytes == 0) return;
+  detail::check(cudaMemcpy(dst, src, bytes, cudaMemcpyHostToDevice), "cudaMemcpy host->device");
+}
+
+void copyToHost(void* dst, const void* src, size_t bytes) {
+  if (bytes == 0) return;
+  detail::check(cudaMemcpy(dst, src, bytes, cudaMemcpyDeviceToHost), "cudaMemcpy device->host");
+}
+
+void copyOnDevice(void* dst, const void* src, size_t bytes) {
+  if (bytes == 0) return;
+  detail::check(cudaMemcpy(dst, src, bytes, cudaMemcpyDeviceToDevice), "cudaMemcpy device->device");
+}
+
+void fillZero(void* dst, size_t bytes) {
+  if (bytes == 0) return;
+  detail::check(cudaMemset(dst, 0, bytes), "cudaMemset");
+}
+
+void synchronize() { detail::check(cudaDeviceSynchronize(), "cudaDeviceSynchronize"); }
+
+}  // namespace vf::cuda
+
+// ---- reduction scratch ------------------------------------------------------------------------
+namespace vf::cuda::detail {
+namespace {
+
+constexpr int kSumThreads = 128;
+
+// Block k sums component k of the partial rows in double, in a fixed order (deterministic).
+__global__ void __launch_bounds__(kSumThreads)
+    sumPartialsKernel(int blocks, int n_components, const float* partials, double* sums) {
+  __shared__ double s[kSumThreads];
+  const int k = blockIdx.x;
+  double v = 0.0;
+  for (int b = threadIdx.x; b < blocks; b += kSumThreads) v += double(partials[size_t(b) * n_components + k]);
+  s[threadIdx.x] = v;
+  __syncthreads();
+  for (int offset = kSumThreads / 2; offset > 0; offset >>= 1) {
+    if (threadIdx.x < offset) s[threadIdx.x] += s[threadIdx.x + offset];
+    __syncthreads();
+  }
+  if (threadIdx.x == 0) sums[k] = s[0];
+}
+
+struct ScratchStore {
+  std::mutex mutex;
+  float* partials = nullptr;
+  size_t partial_capacity = 0;
+  double* sums = nullptr;
+  size_t sum_capacity = 0;
+  ~ScratchStore() {  // at exit the runtime may already be unloading: release() ignores that
+    release(partials);
+    release(sums);
+  }
+};
+
+ScratchStore& scratchStore() {
+  static ScratchStore store;
+  return store;
+}
+
+}  // namespace
+
+ReduceScratch::ReduceScratch(size_t partial_floats, size_t sum_doubles) {
+  ScratchStore& store = scratchStore();
+  lock_ = std::unique_lock<std::mutex>(store.mutex);
+  if (store.partial_capacity < partial_floats) {
+    release(store.partials);
+    store.partials = nullptr;
+    store.partial_capacity = 0;
+    store.partials = static_cast<float*>(allocate(partial_floats * sizeof(float)));
+    store.partial_capacity = partial_floats;
+  }
+  if (store.sum_capacity < sum_doubles) {
+    release(store.sums);
+    store.sums = nullptr;
+    store.sum_capacity = 0;
+    store.sums = static_cast<double*>(allocate(sum_doubles * sizeof(double)));
+    store.sum_capacity = sum_doubles;
+  }
+  partials_ = store.partials;
+  sums_ = store.sums;
+}
+
+void ReduceScratch::sumToHost(int blocks, int n_components, double* out, const std::string& what) const {
+  sumPartialsKernel<<<n_components, kSumThreads>>>(blocks, n_components, partials_, sums_);
+  check(cudaGetLastError(), "launch of the final sum of " + what);
+  // The blocking copy waits for both kernels and reports their errors.
+  check(cudaMemcpy(out, sums_, sizeof(double) * size_t(n_components), cudaMemcpyDeviceToHost), "kernel " + what);
+}
+
+}  // namespace vf::cuda::detail
