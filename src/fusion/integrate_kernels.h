@@ -75,11 +75,24 @@ struct CollectBricksKernel {
 // Streaming majority vote (Boyer-Moore): the stored class keeps its place while it is seen at
 // least as often as all others together; confidence counts the surplus. Deterministic and
 // order-independent enough for fusion, 4 bytes per voxel.
-VF_HD uint32_t voteUpdate(uint32_t vote, uint32_t label, uint32_t max_confidence) {
+// probabilistic: the seed's rule instead. A differing label replaces the stored class (confidence
+// 1) with probability 1/(conf+1), else the vote is kept unchanged; an agreeing label adds 1. The
+// random number is a hash of (seed, voxel index, frame stamp), so it is reproducible and the
+// same on every backend; integer-only so CPU and CUDA agree bit for bit.
+VF_HD uint32_t voteUpdate(uint32_t vote, uint32_t label, uint32_t max_confidence, bool probabilistic = false,
+                          uint32_t seed = 0, uint64_t voxel = 0, uint32_t stamp = 0) {
   uint32_t cls = voteClass(vote), conf = voteConfidence(vote);
   if (conf == 0) return packClassVote(label, 1);
   if (cls == label) return packClassVote(cls, conf < max_confidence ? conf + 1 : conf);
-  return packClassVote(cls, conf - 1);
+  if (!probabilistic) return packClassVote(cls, conf - 1);
+  // splitmix64 finaliser over the three inputs.
+  uint64_t h = (uint64_t(seed) << 32 | stamp) ^ (voxel * 0x9E3779B97F4A7C15ull);
+  h = (h ^ (h >> 30)) * 0xBF58476D1CE4E5B9ull;
+  h = (h ^ (h >> 27)) * 0x94D049BB133111EBull;
+  h ^= h >> 31;
+  // u uniform in [0, 2^32): replace when u < 2^32 / (conf + 1).
+  const uint64_t u = h >> 32;
+  return u * (uint64_t(conf) + 1) < (uint64_t(1) << 32) ? packClassVote(label, 1) : vote;
 }
 
 // One voxel of a marked brick: project, compare with the measured depth, update the running
@@ -95,6 +108,9 @@ struct IntegrateKernel {
   Rigid3f T_cam_world;
   int max_weight = 128;
   uint32_t max_class_confidence = 255;
+  bool probabilistic_vote = false;  // IntegrationParams::class_vote
+  uint32_t vote_seed = 0;
+  uint32_t stamp = 0;               // the frame's brick stamp (1-based), hashed by the vote
 
   VF_HD void operator()(int i) const {
     const int brick = bricks[i / kBrickVoxels];
@@ -136,7 +152,8 @@ struct IntegrateKernel {
       }
     }
     if (labels.data && volume.class_vote && near_surface && label != 0xFFFF)
-      volume.class_vote[index] = voteUpdate(volume.class_vote[index], label, max_class_confidence);
+      volume.class_vote[index] = voteUpdate(volume.class_vote[index], label, max_class_confidence,
+                                            probabilistic_vote, vote_seed, index, stamp);
   }
 };
 

@@ -2,6 +2,7 @@
 // One parameter struct per stage, with in-class defaults; validate() throws vf::Error naming the
 // field and the value. Defaults follow KinectFusion (Newcombe et al. 2011) where it gives values.
 #include <array>
+#include <cstdint>
 #include <string>
 
 #include "core/volume_spec.h"
@@ -33,9 +34,17 @@ struct IcpParams {
   void validate() const;
 };
 
+// How a voxel's class vote is updated by a differing label (integrate_kernels.h voteUpdate).
+enum class ClassVote {
+  Majority,       // streaming Boyer-Moore majority: deterministic, order-robust
+  Probabilistic,  // keep with probability conf/(conf+1), else replace; hashed from class_vote_seed
+};
+
 struct IntegrationParams {
   int max_weight = 128;            // running-average cap: the model can still adapt
   bool integrate_filtered_depth = false;  // KinectFusion fuses the raw depth
+  ClassVote class_vote = ClassVote::Majority;
+  uint32_t class_vote_seed = 0;    // Probabilistic: same seed, same volume (CPU and CUDA)
   void validate() const;
 };
 
