@@ -1,0 +1,381 @@
+// CPU and CUDA run the same functors (DESIGN.md, "one kernel, two backends"), both with IEEE
+// float arithmetic and no FMA contraction (nvcc -fmad=false, g++ -ffp-contract=off), so given
+// the same camera poses they must produce the same volume voxel for voxel and the same raycast.
+//
+// The one legitimately different step is the ICP reduction: the CPU sums rows in TBB's
+// (run-dependent) split order, the GPU per thread / block / in double; the sums agree to float
+// rounding only, the poses to far below 0.1 mm, and a last-bit pose difference moves a few
+// voxels' projections across a pixel boundary. Runs with ICP are therefore compared on poses
+// and on the share of agreeing voxels; runs with given poses are compared strictly.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdlib>
+#include <iterator>
+#include <memory>
+#include <random>
+#include <sstream>
+#include <vector>
+
+#include "fusion/buffer.h"
+#include "fusion/cuda_api.h"
+#include "fusion/icp_kernels.h"
+#include "fusion/parallel.h"
+#include "fusion/pipeline.h"
+#include "io/tum_dataset.h"
+#include "synthetic_scene.h"
+#include "test_data.h"
+
+namespace vf {
+namespace {
+
+#define VF_REQUIRE_GPU()                                                                        \
+  do {                                                                                          \
+    if (cudaDeviceCount() == 0) GTEST_SKIP() << "no CUDA GPU: " << cuda::lastErrorDescription(); \
+  } while (0)
+
+constexpr int kMaxTsdfUnits = 3;          // 1e-4 of the truncation in int16 units of kTsdfScale
+constexpr double kMaxPoseDiffM = 1e-4;    // 0.1 mm
+constexpr double kMaxPoseDiffDeg = 0.01;
+constexpr double kRaycastToleranceM = 1e-4;
+constexpr double kMinRaycastAgreement = 0.999;
+
+// ---- comparisons ------------------------------------------------------------------------------
+
+struct VolumeDiff {
+  size_t bricks = 0;             // bricks observed by either backend
+  size_t stamp_mismatch = 0;     // bricks whose last-touched frame differs
+  size_t observed = 0;           // voxels with weight on either side
+  size_t weight_mismatch = 0;
+  size_t tsdf_over = 0;          // both weighted, |dTSDF| > kMaxTsdfUnits
+  int max_tsdf_units = 0;        // over voxels weighted on both sides
+  size_t color_mismatch = 0;     // a channel differs by more than 1 or the count differs
+  size_t class_mismatch = 0;
+  size_t disagreeing = 0;        // voxels with any of the above
+
+  std::string str() const {
+    std::ostringstream s;
+    s << bricks << " bricks (" << stamp_mismatch << " stamps differ), " << observed << " observed voxels: "
+      << weight_mismatch << " weights differ, " << tsdf_over << " TSDF beyond " << kMaxTsdfUnits
+      << " units (max " << max_tsdf_units << "), " << color_mismatch << " colors differ, " << class_mismatch
+      << " class votes differ";
+    return s.str();
+  }
+};
+
+VolumeDiff compareVolumes(const DenseVolume& cpu, const DenseVolume& gpu) {
+  const VolumeView& a = cpu.view();
+  const VolumeView& b = gpu.view();
+  EXPECT_EQ(a.brickCount(), b.brickCount());
+  const std::vector<int> ba = cpu.observedBricks(), bb = gpu.observedBricks();
+  std::vector<int> bricks;
+  std::set_union(ba.begin(), ba.end(), bb.begin(), bb.end(), std::back_inserter(bricks));
+  VolumeDiff d;
+  d.bricks = bricks.size();
+  for (int brick : bricks) {
+    if (a.brick_stamp[brick] != b.brick_stamp[brick]) ++d.stamp_mismatch;
+    for (size_t v = size_t(brick) * kBrickVoxels; v < size_t(brick + 1) * kBrickVoxels; ++v) {
+      const TsdfVoxel va = a.tsdf[v], vb = b.tsdf[v];
+      if (va.weight == 0 && vb.weight == 0) continue;
+      ++d.observed;
+      bool differs = false;
+      if (va.weight != vb.weight) ++d.weight_mismatch, differs = true;
+      if (va.weight > 0 && vb.weight > 0) {
+        const int units = std::abs(int(va.tsdf) - int(vb.tsdf));
+        d.max_tsdf_units = std::max(d.max_tsdf_units, units);
+        if (units > kMaxTsdfUnits) ++d.tsdf_over, differs = true;
+      }
+      const Rgb8 ca = a.color[v], cb = b.color[v];
+      if (ca.a != cb.a || std::abs(ca.r - cb.r) > 1 || std::abs(ca.g - cb.g) > 1 || std::abs(ca.b - cb.b) > 1)
+        ++d.color_mismatch, differs = true;
+      if (a.class_vote && b.class_vote && a.class_vote[v] != b.class_vote[v]) ++d.class_mismatch, differs = true;
+      if (differs) ++d.disagreeing;
+    }
+  }
+  return d;
+}
+
+void expectIdenticalVolumes(const VolumeDiff& d) {
+  EXPECT_GT(d.observed, 10000u) << "too little was fused for the comparison to mean much";
+  EXPECT_EQ(d.stamp_mismatch, 0u) << d.str();
+  EXPECT_EQ(d.weight_mismatch, 0u) << d.str();
+  EXPECT_LE(d.max_tsdf_units, kMaxTsdfUnits) << d.str();
+  EXPECT_EQ(d.color_mismatch, 0u) << d.str();
+  EXPECT_EQ(d.class_mismatch, 0u) << d.str();
+}
+
+double translationDiffM(const Pose& a, const Pose& b) { return (a.translation() - b.translation()).norm(); }
+double rotationDiffDeg(const Pose& a, const Pose& b) {
+  return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle() * 180.0 / M_PI;
+}
+
+struct RaycastDiff {
+  int pixels = 0;       // pixels where either backend found a surface
+  int disagreeing = 0;  // surface on one side only, or vertices further apart than the tolerance
+  double max_vertex_diff_m = 0;
+  double agreement() const { return pixels > 0 ? 1.0 - double(disagreeing) / pixels : 0.0; }
+};
+
+bool hasSurface(Vec3f n) { return !(n.x == 0.f && n.y == 0.f && n.z == 0.f); }
+
+RaycastDiff compareRaycasts(const Prediction& a, const Prediction& b) {
+  RaycastDiff d;
+  for (int y = 0; y < a.vertex_world.height(); ++y)
+    for (int x = 0; x < a.vertex_world.width(); ++x) {
+      const bool ha = hasSurface(a.normal_world(x, y)), hb = hasSurface(b.normal_world(x, y));
+      if (!ha && !hb) continue;
+      ++d.pixels;
+      if (ha != hb) {
+        ++d.disagreeing;
+        continue;
+      }
+      const Vec3f va = a.vertex_world(x, y), vb = b.vertex_world(x, y);
+      const double diff = norm(va - vb);
+      d.max_vertex_diff_m = std::max(d.max_vertex_diff_m, diff);
+      if (!(diff <= kRaycastToleranceM)) ++d.disagreeing;
+    }
+  return d;
+}
+
+// ---- running both backends --------------------------------------------------------------------
+
+struct Run {
+  std::unique_ptr<Pipeline> pipeline;
+  std::vector<FrameResult> results;
+};
+
+struct BothRuns {
+  Run cpu, gpu;
+};
+
+BothRuns runBoth(const std::vector<RgbdFrame>& frames, const PipelineParams& params, const Intrinsics& k,
+                 PoseSource pose_source, bool with_classes = false, const std::vector<int>& dynamic = {}) {
+  BothRuns runs;
+  runs.cpu.pipeline = std::make_unique<Pipeline>(params, k, Device::Cpu, with_classes);
+  runs.gpu.pipeline = std::make_unique<Pipeline>(params, k, Device::Cuda, with_classes);
+  if (!dynamic.empty()) {
+    runs.cpu.pipeline->setDynamicClasses(dynamic);
+    runs.gpu.pipeline->setDynamicClasses(dynamic);
+  }
+  for (const RgbdFrame& frame : frames) {
+    runs.cpu.results.push_back(runs.cpu.pipeline->processFrame(frame, pose_source));
+    runs.gpu.results.push_back(runs.gpu.pipeline->processFrame(frame, pose_source));
+  }
+  return runs;
+}
+
+void expectSamePoses(const BothRuns& runs) {
+  ASSERT_EQ(runs.cpu.results.size(), runs.gpu.results.size());
+  for (size_t i = 0; i < runs.cpu.results.size(); ++i) {
+    const FrameResult& a = runs.cpu.results[i];
+    const FrameResult& b = runs.gpu.results[i];
+    EXPECT_EQ(a.tracked, b.tracked) << "frame " << i << ": cpu '" << a.lost_reason << "', cuda '" << b.lost_reason << "'";
+    EXPECT_EQ(a.integrated, b.integrated) << "frame " << i;
+    EXPECT_LE(translationDiffM(a.T_world_cam, b.T_world_cam), kMaxPoseDiffM) << "frame " << i;
+    EXPECT_LE(rotationDiffDeg(a.T_world_cam, b.T_world_cam), kMaxPoseDiffDeg) << "frame " << i;
+    EXPECT_NEAR(a.icp_inliers, b.icp_inliers, 1e-3 * std::max(a.icp_inliers, 1)) << "frame " << i;
+    EXPECT_NEAR(a.icp_rmse_m, b.icp_rmse_m, 1e-5) << "frame " << i;
+  }
+}
+
+// Raycasts from the last pose and from a pose a few centimetres / degrees away (predictFrom
+// must render it and restore the tracking prediction).
+void expectSameRaycasts(BothRuns& runs) {
+  const Pose last = runs.cpu.pipeline->pose();
+  const Pose novel = test::poseFrom(2.0, -3.0, 1.0, 0.03, -0.02, 0.04) * last;
+  for (const Pose& pose : {last, novel}) {
+    const Prediction a = runs.cpu.pipeline->predictFrom(pose, true);
+    const Prediction b = runs.gpu.pipeline->predictFrom(pose, true);
+    const RaycastDiff d = compareRaycasts(a, b);
+    const int total = a.vertex_world.width() * a.vertex_world.height();
+    EXPECT_GT(d.pixels, total / 10) << "the raycast found almost no surface";
+    EXPECT_GE(d.agreement(), kMinRaycastAgreement)
+        << d.disagreeing << " of " << d.pixels << " surface pixels differ (max vertex difference "
+        << d.max_vertex_diff_m << " m)";
+  }
+}
+
+// ---- inputs -----------------------------------------------------------------------------------
+
+std::vector<RgbdFrame> tumFrames(const std::string& folder, int count, Intrinsics& k) {
+  TumDataset dataset(folder);
+  k = dataset.depthIntrinsics();
+  std::vector<RgbdFrame> frames;
+  for (int i = 0; i < count && i < dataset.size(); ++i) frames.push_back(dataset.load(i));
+  return frames;
+}
+
+// The synthetic room corner seen from a camera sliding and turning a little per frame, with
+// recorded poses; labels: 1 = the nearer ball, 2 = everything else.
+std::vector<RgbdFrame> syntheticFrames(int count, const Intrinsics& k, bool with_labels) {
+  const test::SyntheticScene scene = test::roomCorner();
+  std::vector<RgbdFrame> frames;
+  for (int i = 0; i < count; ++i) {
+    const Pose pose = test::poseFrom(0.4 * i, -0.6 * i, 0.2 * i, 0.006 * i, -0.003 * i, 0.004 * i);
+    RgbdFrame frame = scene.render(k, pose);
+    frame.index = i;
+    frame.name = "synthetic_" + std::to_string(i);
+    frame.T_world_cam_given = pose;
+    if (with_labels) {
+      frame.labels.resize(k.width, k.height, uint16_t(2));
+      const Eigen::Vector3d ball = scene.spheres[0].center;
+      for (int y = 0; y < k.height; ++y)
+        for (int x = 0; x < k.width; ++x) {
+          const float z = frame.depth(x, y);
+          if (z <= 0.f) continue;
+          const Eigen::Vector3d p = pose * Eigen::Vector3d((x - k.cx) / k.fx * z, (y - k.cy) / k.fy * z, z);
+          if ((p - ball).norm() < scene.spheres[0].radius + 0.01) frame.labels(x, y) = 1;
+        }
+    }
+    frames.push_back(std::move(frame));
+  }
+  return frames;
+}
+
+PipelineParams syntheticParams() {
+  PipelineParams p;
+  p.volume.dims = {256, 256, 256};
+  p.volume.voxel_size_m = 2.0f / 256.f;
+  return p;
+}
+
+constexpr const char* kTum = "tum_fr1_xyz_head100";
+constexpr int kTumFrames = 10;
+
+// ---- tests ------------------------------------------------------------------------------------
+
+TEST(CudaParity, TumWithRecordedPosesFusesTheSameVolumeAndRaycast) {
+  VF_REQUIRE_GPU();
+  VF_REQUIRE_DATA(folder, kTum);
+  Intrinsics k;
+  const std::vector<RgbdFrame> frames = tumFrames(folder, kTumFrames, k);
+  ASSERT_EQ(int(frames.size()), kTumFrames);
+  BothRuns runs = runBoth(frames, PipelineParams{}, k, PoseSource::Given);
+  expectSamePoses(runs);
+  expectIdenticalVolumes(compareVolumes(runs.cpu.pipeline->hostVolume(), runs.gpu.pipeline->hostVolume()));
+  expectSameRaycasts(runs);
+}
+
+TEST(CudaParity, TumWithIcpTracksTheSamePosesAndFusesTheSameVolume) {
+  VF_REQUIRE_GPU();
+  VF_REQUIRE_DATA(folder, kTum);
+  Intrinsics k;
+  const std::vector<RgbdFrame> frames = tumFrames(folder, kTumFrames, k);
+  BothRuns runs = runBoth(frames, PipelineParams{}, k, PoseSource::Icp);
+  for (size_t i = 1; i < runs.cpu.results.size(); ++i)
+    EXPECT_TRUE(runs.cpu.results[i].tracked) << "frame " << i << ": " << runs.cpu.results[i].lost_reason;
+  expectSamePoses(runs);
+  const VolumeDiff d = compareVolumes(runs.cpu.pipeline->hostVolume(), runs.gpu.pipeline->hostVolume());
+  EXPECT_GT(d.observed, 10000u);
+  // Poses agree to float rounding; at most 1 voxel in 10^4 may see a neighbouring pixel.
+  EXPECT_LE(double(d.disagreeing), 1e-4 * double(d.observed)) << d.str();
+  EXPECT_EQ(d.stamp_mismatch, 0u) << d.str();
+  expectSameRaycasts(runs);
+}
+
+TEST(CudaParity, SyntheticSceneWithRecordedPosesIsIdentical) {
+  VF_REQUIRE_GPU();
+  const Intrinsics k = test::testCamera();
+  BothRuns runs = runBoth(syntheticFrames(10, k, false), syntheticParams(), k, PoseSource::Given);
+  expectSamePoses(runs);
+  expectIdenticalVolumes(compareVolumes(runs.cpu.pipeline->hostVolume(), runs.gpu.pipeline->hostVolume()));
+  expectSameRaycasts(runs);
+}
+
+TEST(CudaParity, SyntheticSceneWithIcpTracksTheSamePosesAsTheCpuAndTheTruth) {
+  VF_REQUIRE_GPU();
+  const Intrinsics k = test::testCamera();
+  const std::vector<RgbdFrame> frames = syntheticFrames(10, k, false);
+  BothRuns runs = runBoth(frames, syntheticParams(), k, PoseSource::Icp);
+  expectSamePoses(runs);
+  // Both track the exact rendering poses (the world frame is the first camera, at identity).
+  for (size_t i = 0; i < frames.size(); ++i) {
+    EXPECT_LE(translationDiffM(runs.gpu.results[i].T_world_cam, *frames[i].T_world_cam_given), 2e-3) << "frame " << i;
+    EXPECT_LE(rotationDiffDeg(runs.gpu.results[i].T_world_cam, *frames[i].T_world_cam_given), 0.2) << "frame " << i;
+  }
+  const VolumeDiff d = compareVolumes(runs.cpu.pipeline->hostVolume(), runs.gpu.pipeline->hostVolume());
+  EXPECT_LE(double(d.disagreeing), 1e-4 * double(d.observed)) << d.str();
+  expectSameRaycasts(runs);
+}
+
+// Labels and dynamic classes: the mask kernels, the class vote and the masked depth paths.
+TEST(CudaParity, SyntheticSceneWithLabelsAndADynamicClassIsIdentical) {
+  VF_REQUIRE_GPU();
+  const Intrinsics k = test::testCamera();
+  BothRuns runs = runBoth(syntheticFrames(10, k, true), syntheticParams(), k, PoseSource::Given,
+                          /*with_classes=*/true, /*dynamic=*/{1});
+  const VolumeDiff d = compareVolumes(runs.cpu.pipeline->hostVolume(), runs.gpu.pipeline->hostVolume());
+  expectIdenticalVolumes(d);
+  ASSERT_TRUE(runs.gpu.pipeline->hostVolume().hasClasses());
+  expectSameRaycasts(runs);
+}
+
+// The ICP reduction alone, over more rows than one pass of the grid covers and a count that is
+// no multiple of the block size: both backends against a sum in double on the host.
+TEST(CudaParity, IcpReductionMatchesADoubleSumWithinFloatRounding) {
+  VF_REQUIRE_GPU();
+  const Intrinsics k = test::testCamera(640, 480);
+  const int n = 1024 * 256 * 2 + 77;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> ux(-0.4f, 0.4f), noise(-0.01f, 0.01f), tilt(-0.2f, 0.2f);
+  std::vector<Vec3f> vertex(static_cast<size_t>(n)), normal(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    const float z = 1.f + noise(rng);
+    vertex[size_t(i)] = i % 13 == 0 ? Vec3f{0, 0, 0} : Vec3f{ux(rng) * z, ux(rng) * z, z};
+    normal[size_t(i)] = normalized(Vec3f{tilt(rng), tilt(rng), -1.f});
+  }
+  std::vector<Vec3f> model_vertex(size_t(k.width) * k.height), model_normal(model_vertex.size());
+  for (int y = 0; y < k.height; ++y)
+    for (int x = 0; x < k.width; ++x) {
+      model_vertex[size_t(y) * k.width + x] = k.backProject(float(x), float(y), 1.f);
+      model_normal[size_t(y) * k.width + x] = Vec3f{0.f, 0.f, -1.f};
+    }
+  auto icpOn = [&](Device device, std::vector<std::unique_ptr<Buffer<Vec3f>>>& keep) {
+    auto upload = [&](const std::vector<Vec3f>& host) {
+      keep.push_back(std::make_unique<Buffer<Vec3f>>(device, host.size()));
+      keep.back()->upload(host.data(), host.size());
+      return keep.back()->data();
+    };
+    IcpKernel icp;
+    icp.vertex_cam = {upload(vertex), n, 1};
+    icp.normal_cam = {upload(normal), n, 1};
+    icp.model_vertex = {upload(model_vertex), k.width, k.height};
+    icp.model_normal = {upload(model_normal), k.width, k.height};
+    icp.model_intrinsics = k;
+    icp.T_world_cam = toRigid3f(test::poseFrom(0.3, -0.2, 0.1, 0.002, -0.001, 0.003));
+    icp.T_model_world = Rigid3f::identity();
+    return icp;
+  };
+  std::vector<std::unique_ptr<Buffer<Vec3f>>> host_buffers, device_buffers;
+  const IcpKernel host_icp = icpOn(Device::Cpu, host_buffers);
+  const IcpKernel device_icp = icpOn(Device::Cuda, device_buffers);
+  std::array<double, kIcpRowSize> exact{}, magnitude{};
+  float row[kIcpRowSize];
+  for (int i = 0; i < n; ++i) {
+    if (!host_icp(i, row)) continue;
+    for (int c = 0; c < kIcpRowSize; ++c) exact[size_t(c)] += row[c], magnitude[size_t(c)] += std::abs(row[c]);
+  }
+  ASSERT_GT(exact[28], 0.5 * n) << "too few correspondences for a meaningful test";
+  const auto cpu = parallelReduce<kIcpRowSize>(Device::Cpu, n, host_icp);
+  const auto gpu = parallelReduce<kIcpRowSize>(Device::Cuda, n, device_icp);
+  const auto gpu_again = parallelReduce<kIcpRowSize>(Device::Cuda, n, device_icp);
+  for (int c = 0; c < kIcpRowSize; ++c) {
+    const double tolerance = 1e-5 * magnitude[size_t(c)] + 1e-9;
+    EXPECT_NEAR(cpu[size_t(c)], exact[size_t(c)], tolerance) << "component " << c;
+    EXPECT_NEAR(gpu[size_t(c)], exact[size_t(c)], tolerance) << "component " << c;
+    EXPECT_EQ(gpu[size_t(c)], gpu_again[size_t(c)]) << "component " << c << ": the GPU reduction is not deterministic";
+  }
+  EXPECT_EQ(gpu[28], exact[28]);  // counts are exact
+  EXPECT_EQ(gpu[29], exact[29]);
+  // Fewer rows than one block, and none.
+  const auto small_cpu = parallelReduce<kIcpRowSize>(Device::Cpu, 100, host_icp);
+  const auto small_gpu = parallelReduce<kIcpRowSize>(Device::Cuda, 100, device_icp);
+  EXPECT_EQ(small_gpu[29], small_cpu[29]);
+  for (int c = 0; c < kIcpRowSize; ++c)
+    EXPECT_NEAR(small_gpu[size_t(c)], small_cpu[size_t(c)], 1e-5 * std::abs(small_cpu[size_t(c)]) + 1e-6);
+}
+
+}  // namespace
+}  // namespace vf
