@@ -54,6 +54,7 @@ struct VolumeDiff {
   size_t color_mismatch = 0;     // a channel differs by more than 1 or the count differs
   size_t class_mismatch = 0;
   size_t disagreeing = 0;        // voxels with any of the above
+  size_t voted = 0;              // voxels with a class vote (CPU side)
 
   std::string str() const {
     std::ostringstream s;
@@ -91,6 +92,7 @@ VolumeDiff compareVolumes(const DenseVolume& cpu, const DenseVolume& gpu) {
       if (ca.a != cb.a || std::abs(ca.r - cb.r) > 1 || std::abs(ca.g - cb.g) > 1 || std::abs(ca.b - cb.b) > 1)
         ++d.color_mismatch, differs = true;
       if (a.class_vote && b.class_vote && a.class_vote[v] != b.class_vote[v]) ++d.class_mismatch, differs = true;
+      if (a.class_vote && a.class_vote[v] != 0) ++d.voted;
       if (differs) ++d.disagreeing;
     }
   }
@@ -308,8 +310,21 @@ TEST(CudaParity, SyntheticSceneWithLabelsAndADynamicClassIsIdentical) {
                           /*with_classes=*/true, /*dynamic=*/{1});
   const VolumeDiff d = compareVolumes(runs.cpu.pipeline->hostVolume(), runs.gpu.pipeline->hostVolume());
   expectIdenticalVolumes(d);
-  ASSERT_TRUE(runs.gpu.pipeline->hostVolume().hasClasses());
+  EXPECT_GT(d.voted, 10000u) << "the class vote path was hardly exercised";
   expectSameRaycasts(runs);
+}
+
+// The probabilistic vote draws from a hash of (seed, voxel, frame): the same draws on both sides.
+TEST(CudaParity, SyntheticSceneWithProbabilisticClassVotesIsIdentical) {
+  VF_REQUIRE_GPU();
+  const Intrinsics k = test::testCamera();
+  PipelineParams params = syntheticParams();
+  params.integration.class_vote = ClassVote::Probabilistic;
+  params.integration.class_vote_seed = 7;
+  BothRuns runs = runBoth(syntheticFrames(10, k, true), params, k, PoseSource::Given, /*with_classes=*/true);
+  const VolumeDiff d = compareVolumes(runs.cpu.pipeline->hostVolume(), runs.gpu.pipeline->hostVolume());
+  expectIdenticalVolumes(d);
+  EXPECT_GT(d.voted, 10000u) << "the class vote path was hardly exercised";
 }
 
 // The ICP reduction alone, over more rows than one pass of the grid covers and a count that is
