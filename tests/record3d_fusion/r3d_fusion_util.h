@@ -1,0 +1,41 @@
+#pragma once
+// Fusing the shared Record3D capture in tests and evaluation tools: the phone's poses expressed
+// in the pipeline's world (the first frame's camera), and a run of the pipeline over frames.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/frame.h"
+#include "fusion/pipeline.h"
+#include "io/class_table_io.h"
+#include "io/labeled_source.h"
+#include "io/record3d_export.h"
+
+namespace vf::test {
+
+// Room-sized volume: 512^3 voxels of 1 cm (5.12 m), the first camera centred on its front face.
+inline PipelineParams roomParams(int dims = 512, float voxel_m = 0.01f) {
+  PipelineParams p;
+  p.volume.dims = {dims, dims, dims};
+  p.volume.voxel_size_m = voxel_m;
+  return p;
+}
+
+// The phone's pose of frame `index`, re-expressed relative to frame 0 as the pipeline does.
+inline Pose phonePose(const FrameSource& source, const RgbdFrame& first, const RgbdFrame& frame) {
+  (void)source;
+  return first.T_world_cam_given->inverse() * *frame.T_world_cam_given;
+}
+
+// The capture, with the person masks attached when `labels_dir` is not empty.
+inline std::unique_ptr<FrameSource> openDance(const std::string& capture, const std::string& labels_dir,
+                                              const std::string& classes_json, int min_confidence = 2) {
+  Record3dOptions options;
+  options.min_confidence = min_confidence;
+  std::unique_ptr<FrameSource> source = openRecord3d(capture, options);
+  if (labels_dir.empty()) return source;
+  return std::make_unique<LabeledFrameSource>(std::move(source), labels_dir, readClassTable(classes_json),
+                                              MissingLabels::Error);
+}
+
+}  // namespace vf::test
