@@ -1,0 +1,215 @@
+// The viewer's plain side: option values, what is read from a scene (class rows, per-class
+// parts, bounds, trajectory), slices through the grids, merged exports. No display needed.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "core/error.h"
+#include "test_data.h"
+#include "vdb/mesher.h"
+#include "vdb/scene_info.h"
+#include "viewer/frustum_poses.h"
+#include "viewer/scene_content.h"
+#include "viewer/slice.h"
+#include "viewer/view_options.h"
+#include "viewer_scenes.h"
+
+namespace vf::viewer {
+namespace {
+
+TEST(ViewOptions, ParsesSliceCameraAndSize) {
+  const SliceSpec s = parseSliceSpec("y:-0.25");
+  EXPECT_TRUE(s.enabled);
+  EXPECT_EQ(s.axis, 1);
+  EXPECT_FLOAT_EQ(s.value_m, -0.25f);
+  EXPECT_EQ(parseSliceSpec("x:1").axis, 0);
+  for (const char* bad : {"w:1", "z:", "z", "z:abc", "z=1", "z:1.5m"}) EXPECT_THROW(parseSliceSpec(bad), Error) << bad;
+
+  EXPECT_EQ(parseCameraSpec("front").preset, CameraPreset::kFront);
+  EXPECT_EQ(parseCameraSpec("top").preset, CameraPreset::kTop);
+  EXPECT_EQ(parseCameraSpec("side").preset, CameraPreset::kSide);
+  const CameraSpec c = parseCameraSpec("trajectory:12");
+  EXPECT_EQ(c.preset, CameraPreset::kTrajectory);
+  EXPECT_EQ(c.frame, 12);
+  for (const char* bad : {"back", "trajectory:", "trajectory:-1", "trajectory:1x"})
+    EXPECT_THROW(parseCameraSpec(bad), Error) << bad;
+
+  int w = 0, h = 0;
+  parseWindowSize("1280x720", w, h);
+  EXPECT_EQ(w, 1280);
+  EXPECT_EQ(h, 720);
+  for (const char* bad : {"1280", "0x10", "1280x", "x720", "99999x10"}) EXPECT_THROW(parseWindowSize(bad, w, h), Error);
+  try {
+    parseWindowSize("1280", w, h);
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("WIDTHxHEIGHT"), std::string::npos) << e.what();
+  }
+}
+
+TEST(ViewOptions, FilesBesideTheScene) {
+  EXPECT_EQ(defaultTrajectoryPath("/a/b/room.vdb"), "/a/b/room.txt");
+  EXPECT_EQ(besideScene("/a/b/room.vdb", "_visible.ply"), "/a/b/room_visible.ply");
+}
+
+TEST(SceneContent, ClassRowsAndPartsMatchTheSceneAndItsMesh) {
+  const std::string dir = test::tempDir("viewer_content");
+  const std::string path = test::writeBallScene(dir, "ball", true, true);
+  const SceneContent c = loadSceneContent(path, "", true, 0.f);
+  const SceneSummary summary = summarizeScene(readScene(path));
+  const TriangleMesh mesh = meshScene(readScene(path));
+
+  ASSERT_EQ(c.rows.size(), 2u);
+  EXPECT_EQ(c.rows[0].name, "chair");
+  EXPECT_EQ(c.rows[1].name, "table");
+  EXPECT_EQ(c.rows[0].color.r, test::kChairColor.r);
+  ASSERT_EQ(summary.classes.size(), 2u);
+  EXPECT_EQ(c.rows[0].voxels, summary.classes[0].voxels);
+  EXPECT_EQ(c.rows[1].voxels, summary.classes[1].voxels);
+  EXPECT_GT(c.rows[0].voxels, 10000u);
+
+  // Parts hold exactly the mesh's faces, split by class, with the class color per vertex.
+  ASSERT_EQ(c.parts.size(), 2u);
+  EXPECT_EQ(c.parts[0].mesh.triangleCount() + c.parts[1].mesh.triangleCount(), mesh.triangleCount());
+  EXPECT_EQ(c.triangles, mesh.triangleCount());
+  EXPECT_GT(c.parts[0].mesh.triangleCount(), 2000u);
+  for (const ClassPart& part : c.parts) {
+    ASSERT_EQ(part.class_colors.size(), part.mesh.vertexCount());
+    const Rgb8 want = part.id == test::kClassLeft ? test::kChairColor : test::kTableColor;
+    EXPECT_EQ(part.class_colors.front().g, want.g);
+    size_t on_side = 0;
+    for (const Vec3f& p : part.mesh.positions) on_side += part.id == test::kClassLeft ? p.x < 0.02f : p.x > -0.02f;
+    EXPECT_EQ(on_side, part.mesh.vertexCount()) << "class " << part.id << " faces must lie on its half";
+  }
+  // Surface bounds: the floor plane spans the volume in x and z, the ball's top is at -r.
+  EXPECT_NEAR(c.surface_min_m.y, -test::kBallRadius, 0.01);
+  EXPECT_NEAR(c.surface_max_m.y, test::kFloorY, 0.01);
+
+  ASSERT_EQ(c.trajectory.size(), 10u);
+  EXPECT_EQ(c.trajectory_path, dir + "/ball.txt");
+  EXPECT_TRUE(c.notices.empty());
+}
+
+TEST(SceneContent, WithoutClassesOnePartAndNoRows) {
+  const std::string dir = test::tempDir("viewer_content_plain");
+  const std::string path = test::writeBallScene(dir, "plain", false, false);
+  const SceneContent c = loadSceneContent(path, "", true, 0.f);
+  EXPECT_TRUE(c.rows.empty());
+  ASSERT_EQ(c.parts.size(), 1u);
+  EXPECT_EQ(c.parts[0].mesh.triangleCount(), c.triangles);
+  EXPECT_TRUE(c.trajectory.empty());
+  ASSERT_EQ(c.notices.size(), 1u);
+  EXPECT_NE(c.notices[0].find("plain.txt"), std::string::npos) << c.notices[0];
+  // A named trajectory that is missing is an error, not a notice.
+  EXPECT_THROW(loadSceneContent(path, dir + "/missing.txt", true, 0.f), Error);
+}
+
+TEST(SceneContent, EmptySceneIsAnErrorThatSaysSo) {
+  const std::string dir = test::tempDir("viewer_content_empty");
+  DenseVolume volume(test::sphereSpec(32), false);
+  writeScene(sceneFromDenseVolume(volume, {}), dir + "/empty.vdb");
+  try {
+    loadSceneContent(dir + "/empty.vdb", "", true, 0.f);
+    FAIL() << "an empty scene must throw";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("empty"), std::string::npos) << e.what();
+  }
+}
+
+TEST(SceneContent, FindsClassRowsByNameOrId) {
+  std::vector<ClassRow> rows{{1, "chair"}, {2, "table"}, {-1, "unknown"}};
+  EXPECT_EQ(findClassRow(rows, "table"), 1);
+  EXPECT_EQ(findClassRow(rows, "1"), 0);
+  EXPECT_EQ(findClassRow(rows, "-1"), 2);
+  EXPECT_EQ(findClassRow(rows, "sofa"), -1);
+  EXPECT_EQ(findClassRow(rows, "7"), -1);
+}
+
+TEST(Slice, TsdfPlaneThroughTheBallCentreHoldsTheDistanceToTheSphere) {
+  const Scene scene = test::ballOnFloorScene(true);
+  const SceneSummary summary = summarizeScene(scene);
+  const int k = sliceIndexAt(scene, summary, 2, 0.0f);
+  const SliceImage s = sampleSlice(scene, summary, SliceGrid::kTsdf, 2, k);
+  EXPECT_NEAR(s.value_m, 0.0f, 0.0051f);  // voxel centres at +-5 mm
+  EXPECT_FLOAT_EQ(s.spacing_m, 0.01f);
+  EXPECT_FLOAT_EQ(s.range_min, -scene.meta.truncation_m);
+  EXPECT_FLOAT_EQ(s.range_max, scene.meta.truncation_m);
+  ASSERT_EQ(s.values.size(), size_t(s.width) * s.height);
+  // Every observed sample is the exact SDF of the ball-and-floor at its position (int16 storage).
+  size_t checked = 0;
+  for (int v = 0; v < s.height; ++v)
+    for (int u = 0; u < s.width; ++u) {
+      const float x = s.values[size_t(v) * s.width + u];
+      if (!std::isfinite(x)) continue;
+      const Vec3f p{s.origin_m.x + u * s.spacing_m, s.origin_m.y + v * s.spacing_m, s.origin_m.z};
+      const float want = std::min(norm(p) - test::kBallRadius, test::kFloorY - p.y);
+      ASSERT_NEAR(x, want, 1e-3f) << "at " << p.x << ", " << p.y;
+      ++checked;
+    }
+  EXPECT_EQ(checked, s.observed);
+  // The ball's ring: band of |sdf| < 4 voxels around a circle of 0.18 m: 2 pi r * 8 voxels.
+  // Plus the floor's band across the slice. Unobserved centre stays NaN.
+  EXPECT_GT(s.observed, 900u);
+  const int cu = int(std::lround((0 - s.origin_m.x) / s.spacing_m)), cv = int(std::lround((0 - s.origin_m.y) / s.spacing_m));
+  EXPECT_TRUE(std::isnan(s.values[size_t(cv) * s.width + cu])) << "the ball's centre was never observed";
+}
+
+TEST(Slice, WeightPlaneAndRangeErrors) {
+  const Scene scene = test::ballOnFloorScene(true);
+  const SceneSummary summary = summarizeScene(scene);
+  const SliceImage s = sampleSlice(scene, summary, SliceGrid::kWeight, 0, sliceIndexAt(scene, summary, 0, 0.1f));
+  EXPECT_EQ(s.width * s.height, int(s.values.size()));
+  EXPECT_FLOAT_EQ(s.range_max, 10.f);  // fillSdf's weight
+  for (float x : s.values)
+    if (std::isfinite(x)) ASSERT_FLOAT_EQ(x, 10.f);
+  EXPECT_EQ(sliceTitle(SliceGrid::kWeight), "weight [observations]");
+  EXPECT_EQ(sliceTitle(SliceGrid::kTsdf), "tsdf [mm]");
+  EXPECT_FLOAT_EQ(sliceDisplayScale(SliceGrid::kTsdf), 1000.f);
+  try {
+    sliceIndexAt(scene, summary, 2, 5.f);
+    FAIL() << "a slice outside the scene must throw";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("outside"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("z from -0.3"), std::string::npos) << e.what();
+  }
+  // Moving past the end clamps to the last observed plane.
+  const SliceRange r = sliceRange(scene, summary, 2);
+  EXPECT_EQ(sampleSlice(scene, summary, SliceGrid::kTsdf, 2, r.last + 50).index, r.last);
+}
+
+TEST(FrustumPoses, FixedStepOrSpacedByMotion) {
+  Trajectory t(10);
+  for (int i = 0; i < 10; ++i) t[size_t(i)].T_world_cam.translation() = Eigen::Vector3d(0.01 * i, 0, 0);
+  EXPECT_EQ(frustumPoses(t, 4, 0.0), (std::vector<size_t>{0, 4, 8, 9}));
+  // 1 cm per pose, a frustum every 3 cm of motion.
+  EXPECT_EQ(frustumPoses(t, 0, 0.03), (std::vector<size_t>{0, 3, 6, 9}));
+  // Standing still but turning by 25 degrees at pose 5.
+  Trajectory turn(8);
+  for (size_t i = 5; i < 8; ++i)
+    turn[i].T_world_cam.linear() = Eigen::AngleAxisd(25 * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  EXPECT_EQ(frustumPoses(turn, 0, 0.05), (std::vector<size_t>{0, 5, 7}));
+  EXPECT_TRUE(frustumPoses({}, 0, 0.05).empty());
+  EXPECT_EQ(frustumPoses(Trajectory(1), 0, 0.05), (std::vector<size_t>{0}));
+}
+
+TEST(MergeMeshes, ConcatenatesAndRenumbers) {
+  TriangleMesh a, b;
+  a.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  a.colors = {{1, 2, 3, 255}, {1, 2, 3, 255}, {1, 2, 3, 255}};
+  a.classes = {1, 1, 1};
+  a.triangles = {{0, 1, 2}};
+  b = a;
+  b.positions[0] = {5, 5, 5};
+  b.classes = {2, 2, 2};
+  const TriangleMesh m = mergeMeshes({&a, &b});
+  ASSERT_EQ(m.vertexCount(), 6u);
+  ASSERT_EQ(m.triangleCount(), 2u);
+  EXPECT_EQ(m.triangles[1][0], 3);
+  EXPECT_FLOAT_EQ(m.positions[3].x, 5.f);
+  EXPECT_EQ(m.classes[4], 2);
+  EXPECT_EQ(m.colors.size(), 6u);
+  EXPECT_TRUE(m.normals.empty());
+}
+
+}  // namespace
+}  // namespace vf::viewer

@@ -1,0 +1,160 @@
+#include "viewer/scene_content.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <future>
+#include <limits>
+#include <map>
+
+#include "core/error.h"
+#include "io/trajectory_io.h"
+#include "vdb/mesh_ops.h"
+#include "vdb/mesher.h"
+#include "viewer/view_options.h"
+
+namespace vf::viewer {
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void computeSurfaceBounds(SceneContent& c) {
+  const float inf = std::numeric_limits<float>::infinity();
+  Vec3f lo{inf, inf, inf}, hi{-inf, -inf, -inf};
+  for (const ClassPart& part : c.parts)
+    for (const Vec3f& p : part.mesh.positions) {
+      lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+      hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+    }
+  if (c.triangles == 0) {  // nothing meshed: fall back to the observed voxels
+    lo = c.summary.bounds_min_m;
+    hi = c.summary.bounds_max_m;
+  }
+  c.surface_min_m = lo;
+  c.surface_max_m = hi;
+}
+
+void buildParts(SceneContent& c, TriangleMesh mesh) {
+  c.triangles = mesh.triangleCount();
+  if (!c.scene.hasClasses()) {
+    ClassPart part;
+    part.mesh = std::move(mesh);
+    c.parts.push_back(std::move(part));
+    return;
+  }
+  // Rows: every class the class grid holds, known ids first, unknown (-1) last so that key 1 is
+  // the first real class.
+  for (const ClassVoxelCount& count : c.summary.classes)
+    c.rows.push_back({count.id, count.name, classColor(c.scene.meta.classes, count.id), count.voxels, 0});
+  std::stable_partition(c.rows.begin(), c.rows.end(), [](const ClassRow& r) { return r.id >= 0; });
+  std::map<int32_t, TriangleMesh> split = splitByClass(mesh);
+  for (auto& [id, part_mesh] : split) {  // a face class the grid count missed still gets a row
+    auto row = std::find_if(c.rows.begin(), c.rows.end(), [id = id](const ClassRow& r) { return r.id == id; });
+    if (row == c.rows.end())
+      c.rows.push_back({id, id < 0 ? "unknown" : "(not in table)", classColor(c.scene.meta.classes, id), 0, 0});
+  }
+  for (ClassRow& row : c.rows) {
+    ClassPart part;
+    part.id = row.id;
+    auto it = split.find(row.id);
+    if (it != split.end()) part.mesh = std::move(it->second);
+    row.triangles = part.mesh.triangleCount();
+    part.class_colors.assign(part.mesh.vertexCount(), row.color);
+    c.parts.push_back(std::move(part));
+  }
+}
+
+void loadTrajectory(SceneContent& c, const std::string& path, bool load) {
+  if (!load) return;
+  if (!path.empty()) {  // asked for by name: failing to read it is an error
+    c.trajectory = readTumTrajectory(path);
+    c.trajectory_path = path;
+    return;
+  }
+  const std::string beside = defaultTrajectoryPath(c.scene_path);
+  if (!std::filesystem::exists(beside)) {
+    c.notices.push_back("no trajectory beside the scene (" + beside + "); --trajectory FILE names one");
+    return;
+  }
+  try {
+    c.trajectory = readTumTrajectory(beside);
+    c.trajectory_path = beside;
+  } catch (const Error& e) {  // a stray .txt beside the scene should not stop the viewer
+    c.notices.push_back(std::string("trajectory not shown: ") + e.what());
+  }
+}
+
+}  // namespace
+
+Rgb8 classColor(const ClassTable& table, int id) {
+  const ClassInfo* info = table.findId(id);
+  return info ? info->color : Rgb8{128, 128, 128, 255};
+}
+
+SceneContent loadSceneContent(const std::string& scene_path, const std::string& trajectory_path,
+                              bool load_trajectory, float min_weight) {
+  SceneContent c;
+  c.scene_path = scene_path;
+  auto t0 = std::chrono::steady_clock::now();
+  c.scene = readScene(scene_path);
+  c.read_s = secondsSince(t0);
+  if (c.scene.activeVoxelCount() == 0)
+    throw Error(scene_path + ": the scene is empty (no observed voxel), nothing to show; was it fused from frames "
+                             "that saw nothing inside the volume?");
+  t0 = std::chrono::steady_clock::now();
+  // The summary (class voxel counts: one serial pass over the voxels) runs beside the parallel
+  // mesher; both only read the grids.
+  std::future<SceneSummary> summary = std::async(std::launch::async, [&c] { return summarizeScene(c.scene); });
+  MeshOptions options;
+  options.min_weight = min_weight;
+  TriangleMesh mesh = meshScene(c.scene, options);
+  c.summary = summary.get();
+  c.mesh_s = secondsSince(t0);
+  t0 = std::chrono::steady_clock::now();
+  buildParts(c, std::move(mesh));
+  computeSurfaceBounds(c);
+  c.split_s = secondsSince(t0);
+  loadTrajectory(c, trajectory_path, load_trajectory);
+  return c;
+}
+
+int findClassRow(const std::vector<ClassRow>& rows, const std::string& key) {
+  for (size_t i = 0; i < rows.size(); ++i)
+    if (rows[i].name == key) return int(i);
+  char* end = nullptr;
+  const long id = std::strtol(key.c_str(), &end, 10);
+  if (key.empty() || *end != '\0') return -1;
+  for (size_t i = 0; i < rows.size(); ++i)
+    if (rows[i].id == id) return int(i);
+  return -1;
+}
+
+TriangleMesh mergeMeshes(const std::vector<const TriangleMesh*>& meshes) {
+  TriangleMesh out;
+  bool normals = true, colors = true, classes = true;
+  size_t vertices = 0, triangles = 0;
+  for (const TriangleMesh* m : meshes) {
+    normals &= m->hasNormals() || m->vertexCount() == 0;
+    colors &= m->hasColors() || m->vertexCount() == 0;
+    classes &= m->hasClasses() || m->vertexCount() == 0;
+    vertices += m->vertexCount();
+    triangles += m->triangleCount();
+  }
+  out.positions.reserve(vertices);
+  out.triangles.reserve(triangles);
+  for (const TriangleMesh* m : meshes) {
+    const int32_t base = int32_t(out.positions.size());
+    out.positions.insert(out.positions.end(), m->positions.begin(), m->positions.end());
+    if (normals) out.normals.insert(out.normals.end(), m->normals.begin(), m->normals.end());
+    if (colors) out.colors.insert(out.colors.end(), m->colors.begin(), m->colors.end());
+    if (classes) out.classes.insert(out.classes.end(), m->classes.begin(), m->classes.end());
+    for (const auto& t : m->triangles) out.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+  }
+  if (out.positions.empty()) out.normals.clear(), out.colors.clear(), out.classes.clear();
+  return out;
+}
+
+}  // namespace vf::viewer

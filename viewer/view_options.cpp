@@ -1,0 +1,82 @@
+#include "viewer/view_options.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+
+#include "core/error.h"
+
+namespace vf::viewer {
+namespace {
+
+bool parseInt(const std::string& s, int& out) {
+  if (s.empty()) return false;
+  char* end = nullptr;
+  const long v = std::strtol(s.c_str(), &end, 10);
+  if (*end != '\0' || v < -(1L << 30) || v > (1L << 30)) return false;
+  out = int(v);
+  return true;
+}
+
+bool parseFloat(const std::string& s, float& out) {
+  if (s.empty()) return false;
+  char* end = nullptr;
+  out = std::strtof(s.c_str(), &end);
+  return *end == '\0' && std::isfinite(out);
+}
+
+}  // namespace
+
+CameraSpec parseCameraSpec(const std::string& text) {
+  CameraSpec spec;
+  if (text == "front") return spec;
+  if (text == "top") {
+    spec.preset = CameraPreset::kTop;
+    return spec;
+  }
+  if (text == "side") {
+    spec.preset = CameraPreset::kSide;
+    return spec;
+  }
+  const std::string prefix = "trajectory:";
+  if (text.rfind(prefix, 0) == 0 && parseInt(text.substr(prefix.size()), spec.frame) && spec.frame >= 0) {
+    spec.preset = CameraPreset::kTrajectory;
+    return spec;
+  }
+  throw Error("--camera '" + text + "': expected front, top, side or trajectory:N (N = pose index, from 0)");
+}
+
+SliceSpec parseSliceSpec(const std::string& text) {
+  SliceSpec spec;
+  const bool axis_ok = text.size() >= 3 && text[1] == ':' && (text[0] == 'x' || text[0] == 'y' || text[0] == 'z');
+  if (!axis_ok || !parseFloat(text.substr(2), spec.value_m))
+    throw Error("--slice '" + text + "': expected AXIS:VALUE with AXIS x, y or z and VALUE in metres (e.g. z:1.5)");
+  spec.enabled = true;
+  spec.axis = text[0] - 'x';
+  return spec;
+}
+
+void parseWindowSize(const std::string& text, int& width, int& height) {
+  const size_t x = text.find('x');
+  int w = 0, h = 0;
+  if (x == std::string::npos || !parseInt(text.substr(0, x), w) || !parseInt(text.substr(x + 1), h) || w < 16 ||
+      h < 16 || w > 16384 || h > 16384)
+    throw Error("--size '" + text + "': expected WIDTHxHEIGHT in pixels, each 16..16384 (e.g. 1280x720)");
+  width = w;
+  height = h;
+}
+
+std::string defaultTrajectoryPath(const std::string& scene_path) { return besideScene(scene_path, ".txt"); }
+
+std::string besideScene(const std::string& scene_path, const std::string& suffix) {
+  const std::filesystem::path p(scene_path);
+  return (p.parent_path() / (p.stem().string() + suffix)).string();
+}
+
+const char* axisName(int axis) { return axis == 0 ? "x" : axis == 1 ? "y" : "z"; }
+
+CameraPreset cameraFacingAxis(int axis) {
+  return axis == 0 ? CameraPreset::kSide : axis == 1 ? CameraPreset::kTop : CameraPreset::kFront;
+}
+
+}  // namespace vf::viewer
