@@ -1,0 +1,18 @@
+#pragma once
+// The camera path as a polyline through the camera centres, with a small wireframe frustum every
+// few frames showing where each camera looked. VTK header: viewer/*.cpp only.
+#include <vtkActor.h>
+#include <vtkSmartPointer.h>
+
+#include "core/pose.h"
+#include "viewer/view_style.h"
+
+namespace vf::viewer {
+
+#include <vector>
+
+// The path through all poses, a frustum of depth_m at each of `frustum_poses` (frustumPoses()).
+vtkSmartPointer<vtkActor> makeTrajectoryActor(const Trajectory& trajectory, const std::vector<size_t>& frustum_poses,
+                                              double depth_m);
+
+}  // namespace vf::viewer

@@ -1,0 +1,21 @@
+#pragma once
+// Colors and constants of the picture that the tests need too (plain header, no VTK).
+namespace vf::viewer {
+
+// Neutral gradient background, darker at the bottom: a lit surface of any color stands out.
+inline constexpr double kBackgroundBottom[3] = {0.20, 0.21, 0.23};
+inline constexpr double kBackgroundTop[3] = {0.55, 0.57, 0.60};
+
+// Slice color maps' end colors: tsdf by Moreland's cool-warm (blue inside / behind the surface,
+// red in front of it), weight by viridis (dark violet: few observations, yellow: many).
+inline constexpr double kTsdfLowRgb[3] = {0.230, 0.299, 0.754}, kTsdfHighRgb[3] = {0.706, 0.016, 0.150};
+inline constexpr double kWeightLowRgb[3] = {0.267, 0.005, 0.329}, kWeightHighRgb[3] = {0.993, 0.906, 0.144};
+
+// Trajectory line and frustum color.
+inline constexpr unsigned char kTrajectoryColor[3] = {255, 170, 30};
+
+// Vertical field of view of the frustums and of the trajectory camera: a Kinect/Xtion (TUM),
+// 2 atan(240 / 525). The scene file does not record the intrinsics.
+inline constexpr double kTrajectoryFovYDeg = 49.1;
+
+}  // namespace vf::viewer
