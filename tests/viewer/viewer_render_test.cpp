@@ -1,0 +1,296 @@
+// vdbfuse-view --screenshot under xvfb-run, judged by the pictures: something is drawn, the two
+// colorings differ, a hidden class's color is gone, the slice's color bar is where it should be,
+// the same camera gives the same picture, and the errors a user meets say what to do.
+#include <gtest/gtest.h>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "test_data.h"
+#include "viewer/view_style.h"
+#include "viewer_scenes.h"
+
+namespace vf::viewer {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr int kW = 640, kH = 360;
+
+struct RunResult {
+  int exit_code = -1;
+  std::string output;  // stdout + stderr
+};
+
+RunResult runCommand(const std::string& command) {
+  const std::string log = fs::temp_directory_path() / "vdbfuse_viewer_test_run.log";
+  const int status = std::system((command + " > " + log + " 2>&1").c_str());
+  std::ifstream in(log);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ss.str()};
+}
+
+// `command` under a fresh virtual X server. Its exit status is echoed from inside: xvfb-run
+// returns its own when cleaning up its temp folder fails (seen with parallel test runs).
+RunResult underXvfb(const std::string& command) {
+  const std::string quoted = "'" + command + "; echo vf_exit=$?'";
+  RunResult r = runCommand(std::string(VF_XVFB_RUN) + " -a -s '-screen 0 1280x1024x24' sh -c " + quoted);
+  const size_t at = r.output.rfind("vf_exit=");
+  r.exit_code = at == std::string::npos ? -1 : std::atoi(r.output.c_str() + at + 8);
+  return r;
+}
+
+RunResult view(const std::string& args) { return underXvfb(std::string(VF_VIEW_EXE) + " " + args); }
+
+class ViewerRender : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = test::tempDir("viewer_render");
+    scene_ = test::writeBallScene(dir_, "ball", true, true);
+    plain_ = test::writeBallScene(dir_, "plain", false, false);
+  }
+  void SetUp() override {
+    if (std::string(VF_XVFB_RUN).empty()) GTEST_SKIP() << "xvfb-run not found: offscreen rendering tests skipped";
+  }
+  // Renders the ball scene to a PNG and loads it (BGR).
+  cv::Mat render(const std::string& name, const std::string& args, const std::string& scene = scene_) {
+    const std::string png = dir_ + "/" + name + ".png";
+    const RunResult r = view(scene + " --screenshot " + png + " --size " + std::to_string(kW) + "x" +
+                             std::to_string(kH) + " " + args);
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    cv::Mat img = cv::imread(png, cv::IMREAD_COLOR);
+    EXPECT_FALSE(img.empty()) << "no picture at " << png << "\n" << r.output;
+    if (!img.empty()) {
+      EXPECT_EQ(img.cols, kW);
+      EXPECT_EQ(img.rows, kH);
+    }
+    return img;
+  }
+  static std::string dir_, scene_, plain_;
+};
+std::string ViewerRender::dir_, ViewerRender::scene_, ViewerRender::plain_;
+
+// The gradient background's color at row y (top row = kBackgroundTop).
+cv::Vec3d background(int y, int rows) {
+  const double t = 1.0 - double(y) / (rows - 1);
+  cv::Vec3d bgr;
+  for (int c = 0; c < 3; ++c) bgr[2 - c] = 255.0 * (kBackgroundBottom[c] + t * (kBackgroundTop[c] - kBackgroundBottom[c]));
+  return bgr;
+}
+
+size_t countNonBackground(const cv::Mat& img) {
+  size_t n = 0;
+  for (int y = 0; y < img.rows; ++y) {
+    const cv::Vec3d bg = background(y, img.rows);
+    for (int x = 0; x < img.cols; ++x) {
+      const cv::Vec3b p = img.at<cv::Vec3b>(y, x);
+      if (std::abs(p[0] - bg[0]) > 8 || std::abs(p[1] - bg[1]) > 8 || std::abs(p[2] - bg[2]) > 8) ++n;
+    }
+  }
+  return n;
+}
+
+// Lit surfaces scale a color (diffuse) more than they shift it: compare chromaticities, and
+// require some brightness and saturation so that the gray background and white text never count.
+size_t countHue(const cv::Mat& img, Rgb8 want, double tol = 0.05, cv::Rect roi = {}) {
+  if (roi.area() == 0) roi = cv::Rect(0, 0, img.cols, img.rows);
+  const double ws = double(want.r) + want.g + want.b;
+  const double wr = want.r / ws, wg = want.g / ws;
+  size_t n = 0;
+  for (int y = roi.y; y < roi.y + roi.height; ++y)
+    for (int x = roi.x; x < roi.x + roi.width; ++x) {
+      const cv::Vec3b p = img.at<cv::Vec3b>(y, x);
+      const double s = double(p[0]) + p[1] + p[2];
+      const int mx = std::max({p[0], p[1], p[2]}), mn = std::min({p[0], p[1], p[2]});
+      if (s < 90 || mx - mn < 40) continue;
+      if (std::abs(p[2] / s - wr) < tol && std::abs(p[1] / s - wg) < tol) ++n;
+    }
+  return n;
+}
+
+// Unlit colors (color bar): plain per-channel distance.
+size_t countExact(const cv::Mat& img, const double rgb[3], int tol, cv::Rect roi) {
+  size_t n = 0;
+  for (int y = roi.y; y < roi.y + roi.height; ++y)
+    for (int x = roi.x; x < roi.x + roi.width; ++x) {
+      const cv::Vec3b p = img.at<cv::Vec3b>(y, x);
+      if (std::abs(p[2] - 255 * rgb[0]) <= tol && std::abs(p[1] - 255 * rgb[1]) <= tol &&
+          std::abs(p[0] - 255 * rgb[2]) <= tol)
+        ++n;
+    }
+  return n;
+}
+
+int maxAbsDiff(const cv::Mat& a, const cv::Mat& b) {
+  cv::Mat d;
+  cv::absdiff(a, b, d);
+  double mx = 0;
+  cv::minMaxLoc(d.reshape(1), nullptr, &mx);
+  return int(mx);
+}
+
+TEST_F(ViewerRender, PictureShowsTheSurfaceAndIsRepeatable) {
+  const cv::Mat a = render("front_a", "--no-trajectory");
+  const cv::Mat b = render("front_b", "--no-trajectory");
+  ASSERT_FALSE(a.empty());
+  ASSERT_FALSE(b.empty());
+  const size_t drawn = countNonBackground(a);
+  EXPECT_GT(drawn, size_t(0.15 * kW * kH)) << "the ball and floor should fill a good part of the picture";
+  EXPECT_LT(drawn, size_t(0.95 * kW * kH));
+  EXPECT_LE(maxAbsDiff(a, b), 1) << "same scene, same camera: same picture";
+  // Fused colors: red-ish left half (200,40,30) and green right half (30,180,60).
+  EXPECT_GT(countHue(a, test::kColorLeft), 3000u);
+  EXPECT_GT(countHue(a, test::kColorRight), 3000u);
+}
+
+TEST_F(ViewerRender, ClassColoringDiffersAndHiddenClassIsGone) {
+  const cv::Mat rgb = render("rgb", "--no-trajectory");
+  const cv::Mat cls = render("class", "--no-trajectory --color class");
+  const cv::Mat hidden = render("class_hide_chair", "--no-trajectory --color class --hide-classes chair");
+  ASSERT_FALSE(rgb.empty() || cls.empty() || hidden.empty());
+  cv::Mat diff;
+  cv::absdiff(rgb, cls, diff);
+  cv::Mat gray;
+  cv::cvtColor(diff, gray, cv::COLOR_BGR2GRAY);
+  EXPECT_GT(cv::countNonZero(gray > 40), int(0.1 * kW * kH)) << "rgb and class pictures must differ";
+
+  const size_t chair_shown = countHue(cls, test::kChairColor), table_shown = countHue(cls, test::kTableColor);
+  EXPECT_GT(chair_shown, 3000u);
+  EXPECT_GT(table_shown, 3000u);
+  // (Only where red meets green does the rgb picture blend to something yellow.)
+  EXPECT_LT(countHue(rgb, test::kChairColor), chair_shown / 10) << "class colors in the rgb picture";
+  // Hidden: no surface pixel of the chair's color is left (the panel's swatch is excluded: it
+  // shows the class color as a thin ring, so look right of the panel).
+  const cv::Rect scene_area(kW / 2 - 40, 0, kW / 2 + 40, kH);
+  EXPECT_GT(countHue(cls, test::kChairColor, 0.05, cv::Rect(0, 0, kW, kH) & cv::Rect(120, 0, kW - 120, kH)), 1000u);
+  EXPECT_EQ(countHue(hidden, test::kChairColor, 0.05, cv::Rect(120, 0, kW - 120, kH)), 0u);
+  EXPECT_GT(countHue(hidden, test::kTableColor, 0.05, scene_area), 0.8 * countHue(cls, test::kTableColor, 0.05, scene_area))
+      << "the table stays";
+}
+
+TEST_F(ViewerRender, SliceShowsItsColorBar) {
+  const cv::Mat with = render("slice", "--no-trajectory --color class --slice z:0.0");
+  const cv::Mat without = render("no_slice", "--no-trajectory --color class");
+  ASSERT_FALSE(with.empty() || without.empty());
+  // The bar: right tenth of the picture, 12 % .. 82 % of the height from the bottom.
+  const cv::Rect bar(int(0.88 * kW), int(0.15 * kH), kW - int(0.88 * kW), int(0.72 * kH));
+  EXPECT_GT(countExact(with, kTsdfLowRgb, 20, bar), 20u) << "blue (negative) end of the tsdf bar";
+  EXPECT_GT(countExact(with, kTsdfHighRgb, 20, bar), 20u) << "red (positive) end of the tsdf bar";
+  EXPECT_EQ(countExact(without, kTsdfLowRgb, 20, bar), 0u);
+  EXPECT_EQ(countExact(without, kTsdfHighRgb, 20, bar), 0u);
+  // The slice itself: its blue (inside) and red (outside) bands around the ball.
+  const cv::Rect middle(kW / 4, 0, kW / 2, kH);
+  EXPECT_GT(countExact(with, kTsdfLowRgb, 40, middle) + countExact(with, kTsdfHighRgb, 40, middle), 200u);
+
+  const cv::Mat weight = render("slice_weight", "--no-trajectory --color class --slice x:0.05 --slice-grid weight");
+  ASSERT_FALSE(weight.empty());
+  EXPECT_GT(countExact(weight, kWeightHighRgb, 20, bar), 20u) << "yellow (many observations) end of the weight bar";
+}
+
+TEST_F(ViewerRender, TrajectoryIsDrawnUnlessTurnedOff) {
+  const cv::Mat with = render("traj", "--camera top");
+  const cv::Mat without = render("traj_off", "--camera top --no-trajectory");
+  ASSERT_FALSE(with.empty() || without.empty());
+  const Rgb8 orange{kTrajectoryColor[0], kTrajectoryColor[1], kTrajectoryColor[2], 255};
+  EXPECT_GT(countHue(with, orange, 0.04), 150u);
+  EXPECT_EQ(countHue(without, orange, 0.04), 0u);
+  // From a recorded camera the ball fills the middle of the picture.
+  const cv::Mat cam = render("traj_cam", "--camera trajectory:4 --no-trajectory");
+  ASSERT_FALSE(cam.empty());
+  const cv::Mat centre = cam(cv::Rect(kW / 2 - 20, kH / 2 - 20, 40, 40));
+  EXPECT_EQ(countNonBackground(centre), 1600u) << "the ball is straight ahead";
+  EXPECT_GT(maxAbsDiff(cam, without), 100) << "trajectory camera and top camera see different pictures";
+}
+
+TEST_F(ViewerRender, SceneWithoutClassesFallsBackToRgbWithANotice) {
+  const std::string png = dir_ + "/plain_class.png";
+  const RunResult r = view(plain_ + " --screenshot " + png + " --size 640x360 --color class");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("no class grid"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("plain.txt"), std::string::npos) << "the missing trajectory is mentioned\n" << r.output;
+  const cv::Mat img = cv::imread(png);
+  ASSERT_FALSE(img.empty());
+  EXPECT_GT(countHue(img, test::kColorLeft), 3000u) << "fused colors shown";
+  EXPECT_LT(countHue(img, test::kChairColor), 300u) << "only the red-green seam may look yellow";
+  const RunResult hide = view(plain_ + " --screenshot " + png + " --hide-classes chair");
+  EXPECT_EQ(hide.exit_code, 1);
+  EXPECT_NE(hide.output.find("no class grid"), std::string::npos) << hide.output;
+}
+
+TEST_F(ViewerRender, ErrorsSayWhatIsWrong) {
+  const std::string png = dir_ + "/never.png";
+  // Empty scene.
+  DenseVolume volume(test::sphereSpec(32), false);
+  writeScene(sceneFromDenseVolume(volume, {}), dir_ + "/empty.vdb");
+  RunResult r = view(dir_ + "/empty.vdb --screenshot " + png);
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("empty"), std::string::npos) << r.output;
+  // Not a scene.
+  std::ofstream(dir_ + "/junk.vdb") << "this is not an OpenVDB file at all";
+  r = view(dir_ + "/junk.vdb --screenshot " + png);
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("junk.vdb"), std::string::npos) << r.output;
+  // Unknown class, slice outside, pose past the end.
+  r = view(scene_ + " --screenshot " + png + " --hide-classes sofa");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("chair, table"), std::string::npos) << r.output;
+  r = view(scene_ + " --screenshot " + png + " --slice z:9");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("outside"), std::string::npos) << r.output;
+  r = view(scene_ + " --screenshot " + png + " --camera trajectory:10");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("10 poses"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(png)) << "no picture is written when the view fails";
+  // Without any X server: a clear message instead of VTK's abort.
+  r = runCommand(std::string("env -u DISPLAY ") + VF_VIEW_EXE + " " + scene_ + " --screenshot " + png);
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("xvfb-run"), std::string::npos) << r.output;
+}
+
+#ifdef VF_VDBFUSE_EXE
+TEST_F(ViewerRender, VdbfuseViewRunsTheViewer) {
+  const cv::Mat direct = render("direct", "--no-trajectory --color class");
+  const std::string png = dir_ + "/through_vdbfuse.png";
+  const RunResult r = underXvfb(std::string(VF_VDBFUSE_EXE) + " view " + scene_ + " --screenshot " + png +
+                                " --size 640x360 --no-trajectory --color class");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const cv::Mat via = cv::imread(png);
+  ASSERT_FALSE(via.empty());
+  EXPECT_LE(maxAbsDiff(direct, via), 1);
+}
+
+// A real capture: ten TUM frames fused at 256^3, shown with its trajectory.
+TEST_F(ViewerRender, FusedTumSceneRendersWithItsTrajectory) {
+  VF_REQUIRE_DATA(tum, "tum_fr3_teddy_head60");
+  const std::string scene = dir_ + "/teddy10.vdb";
+  const RunResult fused = runCommand(std::string(VF_VDBFUSE_EXE) + " reconstruct " + tum +
+                                     " --max-frames 10 --volume-size 256 -q -o " + scene + " --trajectory " + dir_ +
+                                     "/teddy10.txt");
+  ASSERT_EQ(fused.exit_code, 0) << fused.output;
+  const cv::Mat img = render("teddy10", "", scene);
+  ASSERT_FALSE(img.empty());
+  // Ten frames see the teddy, its box and scattered floor: a few percent of the picture.
+  EXPECT_GT(countNonBackground(img), size_t(0.05 * kW * kH));
+  const Rgb8 orange{kTrajectoryColor[0], kTrajectoryColor[1], kTrajectoryColor[2], 255};
+  EXPECT_GT(countHue(img, orange, 0.04), 100u) << "the trajectory beside the scene is drawn";
+  const cv::Mat cam = render("teddy10_cam0", "--camera trajectory:0", scene);
+  ASSERT_FALSE(cam.empty());
+  EXPECT_GT(countNonBackground(cam), size_t(0.3 * kW * kH)) << "the first camera looks straight at the scene";
+  const cv::Mat cam_plain = render("teddy10_cam0_no_traj", "--camera trajectory:0 --no-trajectory", scene);
+  ASSERT_FALSE(cam_plain.empty());
+  EXPECT_LE(maxAbsDiff(cam, cam_plain), 1) << "no frustums drawn around a recorded camera's own view";
+}
+#endif
+
+}  // namespace
+}  // namespace vf::viewer
