@@ -21,9 +21,8 @@ inline PipelineParams roomParams(int dims = 512, float voxel_m = 0.01f) {
   return p;
 }
 
-// The phone's pose of frame `index`, re-expressed relative to frame 0 as the pipeline does.
-inline Pose phonePose(const FrameSource& source, const RgbdFrame& first, const RgbdFrame& frame) {
-  (void)source;
+// The phone's pose of `frame`, re-expressed relative to `first` (frame 0) as the pipeline does.
+inline Pose phonePose(const RgbdFrame& first, const RgbdFrame& frame) {
   return first.T_world_cam_given->inverse() * *frame.T_world_cam_given;
 }
 

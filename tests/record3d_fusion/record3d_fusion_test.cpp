@@ -59,7 +59,7 @@ TEST(Record3dFusion, GivenPosesFuseOneCoherentRoomThatPredictsHeldOutFrames) {
   }
   for (int k : {1, 9, 19, 29, 39}) {
     const RgbdFrame frame = source->load(k);
-    const Pose pose = test::phonePose(*source, first, frame);
+    const Pose pose = test::phonePose(first, frame);
     const std::vector<float> r = depthResiduals(pipeline.predictFrom(pose, false), frame, pose, 4);
     const float median = quantile(r, 0.5), p90 = quantile(r, 0.9);
     std::printf("held-out frame %d: %zu pixels, median |dz| %.1f mm, 90%% %.1f mm\n", k, r.size(), 1e3f * median,
@@ -84,7 +84,7 @@ TEST(Record3dFusion, IcpWithPersonMaskedTracksTheFirstThirtyFramesLikeThePhone) 
     const FrameResult r = pipeline.processFrame(frame, PoseSource::Icp);
     EXPECT_TRUE(i == 0 || r.tracked) << "frame " << i << ": " << r.lost_reason;
     estimate.push_back({frame.timestamp, r.T_world_cam});
-    phone.push_back({frame.timestamp, test::phonePose(*source, first, frame)});
+    phone.push_back({frame.timestamp, test::phonePose(first, frame)});
   }
   const AteResult ate = computeAte(estimate, phone);
   // Path length, to put the error in proportion.
