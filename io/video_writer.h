@@ -1,0 +1,23 @@
+#pragma once
+// MP4 video of rendered frames (OpenCV). Written to a temporary file beside the target and
+// renamed into place by close(), so an interrupted run leaves no half-written video.
+#include <memory>
+#include <string>
+
+#include "core/image.h"
+
+namespace vf {
+
+class VideoWriter {
+ public:
+  VideoWriter(const std::string& path, int width, int height, double fps);
+  ~VideoWriter();  // discards the temporary file unless close() succeeded
+  void write(const ColorImage& frame);
+  void close();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace vf

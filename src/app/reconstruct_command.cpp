@@ -1,0 +1,291 @@
+// vdbfuse reconstruct DATASET -o scene.vdb: the KinectFusion loop over a sequence, then the
+// dense volume becomes the sparse scene document.
+#include <sys/resource.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+#include <sstream>
+
+#include "app/command_registry.h"
+#include "app/frame_prefetcher.h"
+#include "app/frame_renders.h"
+#include "app/open_source.h"
+#include "app/progress.h"
+#include "core/error.h"
+#include "core/version.h"
+#include "fusion/pipeline.h"
+#include "io/class_table_io.h"
+#include "io/image_io.h"
+#include "io/labeled_source.h"
+#include "io/trajectory_io.h"
+#include "io/video_writer.h"
+#include "vdb/scene.h"
+
+namespace vf::app {
+namespace {
+
+struct ReconstructOptions {
+  std::string dataset;
+  std::string output;
+  std::string trajectory;
+  std::string volume_size = "512";
+  float voxel_size_m = 0;     // 0 = 3 m / largest dimension
+  float truncation_m = 0;     // 0 = 5 voxels
+  int max_frames = 0;
+  std::string device = "auto";
+  std::string renders_dir;
+  std::string video;
+  std::string poses = "icp";
+  SourceOptions source;
+  std::string intrinsics;
+  bool bench = false;
+  bool quiet = false;
+  bool force = false;
+  // Semantic fusion.
+  std::string labels_dir;
+  std::string classes_file;       // default: labels_dir/classes.json
+  std::string dynamic_classes;    // names or ids, comma-separated
+  std::optional<int> mask_dilation_px;  // unset: PipelineParams default
+  std::string labels_missing = "skip";
+  std::string class_vote = "majority";
+  uint32_t class_vote_seed = 0;
+};
+
+ClassVote parseClassVote(const std::string& s) {
+  if (s == "majority") return ClassVote::Majority;
+  if (s == "probabilistic") return ClassVote::Probabilistic;
+  throw Error("--class-vote " + s + ": expected majority or probabilistic");
+}
+
+// The class table that goes with --labels: --classes, else DIR/classes.json.
+ClassTable loadClassTable(const ReconstructOptions& o) {
+  std::string path = o.classes_file;
+  if (path.empty()) {
+    path = (std::filesystem::path(o.labels_dir) / "classes.json").string();
+    if (!std::filesystem::exists(path))
+      throw Error("--labels " + o.labels_dir + " has no classes.json; name the class table with --classes FILE.json " +
+                  "(e.g. samples/classes/ade20k.json)");
+  }
+  return readClassTable(path);
+}
+
+void printLabelSummary(const LabelStats& stats, const ClassTable& classes, int frames) {
+  std::printf("labels: %d of %d frames labelled", stats.frames_labelled, frames);
+  if (!stats.missing_files.empty()) {
+    std::printf("; %zu without a label map (fused without labels):", stats.missing_files.size());
+    const size_t shown = std::min<size_t>(stats.missing_files.size(), 5);
+    for (size_t i = 0; i < shown; ++i) std::printf(" %s", stats.missing_files[i].c_str());
+    if (shown < stats.missing_files.size()) std::printf(" ...");
+  }
+  std::printf("\n");
+  if (!stats.unknown_id_pixels.empty()) {
+    std::printf("labels: ids not in the class table (%zu classes named) were fused as unknown:",
+                classes.classes.size());
+    for (const auto& [id, pixels] : stats.unknown_id_pixels) std::printf(" %d (%lld px)", id, pixels);
+    std::printf("\n");
+  }
+}
+
+Vec3i parseVolumeSize(const std::string& text) {
+  std::vector<int> v;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    try {
+      size_t used = 0;
+      v.push_back(std::stoi(item, &used));
+      if (used != item.size()) throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      throw Error("--volume-size " + text + ": expected N or X,Y,Z voxel counts");
+    }
+  }
+  if (v.size() == 1) return {v[0], v[0], v[0]};
+  if (v.size() == 3) return {v[0], v[1], v[2]};
+  throw Error("--volume-size " + text + ": expected N or X,Y,Z voxel counts");
+}
+
+PoseSource parsePoses(const std::string& s) {
+  if (s == "icp") return PoseSource::Icp;
+  if (s == "given") return PoseSource::Given;
+  if (s == "given+icp") return PoseSource::GivenIcp;
+  throw Error("--poses " + s + ": expected icp, given or given+icp");
+}
+
+double peakResidentMiB() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return double(usage.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
+}
+
+void printTimingTable(const StageTimer& timer, int frames, double wall_s) {
+  std::printf("\n%-12s %10s %10s %10s\n", "stage", "median ms", "mean ms", "total s");
+  double sum_median = 0;
+  for (const std::string& stage : timer.stages()) {
+    std::printf("%-12s %10.2f %10.2f %10.2f\n", stage.c_str(), timer.median(stage), timer.mean(stage),
+                timer.total(stage) / 1000.0);
+    if (stage == "measure" || stage == "track" || stage == "integrate" || stage == "raycast")
+      sum_median += timer.median(stage);
+  }
+  std::printf("%-12s %10.2f   -> %.1f frames/s from the four stages' medians\n", "fusion", sum_median,
+              sum_median > 0 ? 1000.0 / sum_median : 0.0);
+  std::printf("%d frames in %.2f s (%.1f frames/s including I/O), peak memory %.0f MiB\n", frames, wall_s,
+              wall_s > 0 ? frames / wall_s : 0.0, peakResidentMiB());
+}
+
+void refuseOverwrite(const std::string& path, bool force) {
+  if (!path.empty() && std::filesystem::exists(path) && !force)
+    throw Error(path + " already exists; pass --force to overwrite it");
+}
+
+void runReconstruct(const ReconstructOptions& o) {
+  if (o.output.empty() && !o.bench) throw Error("reconstruct: give an output scene with -o scene.vdb");
+  refuseOverwrite(o.output, o.force);
+  refuseOverwrite(o.trajectory, o.force);
+  refuseOverwrite(o.video, o.force);
+  SourceOptions source_options = o.source;
+  if (!o.intrinsics.empty()) source_options.intrinsics = o.intrinsics;
+  std::unique_ptr<FrameSource> source = openFrameSource(o.dataset, source_options);
+  const bool with_labels = !o.labels_dir.empty();
+  if (!with_labels && (!o.classes_file.empty() || !o.dynamic_classes.empty()))
+    throw Error("--classes and --dynamic-classes need --labels DIR (per-frame label maps)");
+  LabeledFrameSource* labeled = nullptr;
+  std::vector<int> dynamic_ids;
+  if (with_labels) {
+    ClassTable classes = loadClassTable(o);
+    if (!o.dynamic_classes.empty()) dynamic_ids = resolveClassList(classes, o.dynamic_classes, "--dynamic-classes");
+    auto wrapped = std::make_unique<LabeledFrameSource>(std::move(source), o.labels_dir, std::move(classes),
+                                                        parseMissingLabels(o.labels_missing));
+    labeled = wrapped.get();
+    source = std::move(wrapped);
+  }
+  const int frames = o.max_frames > 0 ? std::min(o.max_frames, source->size()) : source->size();
+  if (frames == 0) throw Error(o.dataset + ": the sequence has no frames");
+
+  PipelineParams params;
+  params.volume.dims = parseVolumeSize(o.volume_size);
+  const int largest = std::max({params.volume.dims.x, params.volume.dims.y, params.volume.dims.z});
+  params.volume.voxel_size_m = o.voxel_size_m > 0 ? o.voxel_size_m : 3.0f / float(largest);
+  params.volume.truncation_m = o.truncation_m;
+  if (o.mask_dilation_px) {
+    if (*o.mask_dilation_px < 0 || *o.mask_dilation_px > 64)
+      throw Error("--mask-dilation-px " + std::to_string(*o.mask_dilation_px) + ": expected 0..64 pixels");
+    params.dynamic_mask_dilation_px = *o.mask_dilation_px;
+  }
+  params.integration.class_vote = parseClassVote(o.class_vote);
+  params.integration.class_vote_seed = o.class_vote_seed;
+  const PoseSource pose_source = parsePoses(o.poses);
+  Pipeline pipeline(params, source->depthIntrinsics(), parseDevice(o.device), with_labels);
+  if (!dynamic_ids.empty()) pipeline.setDynamicClasses(dynamic_ids);
+  if (!o.quiet)
+    std::fprintf(stderr, "%s: %d frames, %dx%d, volume %dx%dx%d at %.2f mm (%.2f m), device %s\n",
+                 source->description().c_str(), frames, source->depthIntrinsics().width,
+                 source->depthIntrinsics().height, params.volume.dims.x, params.volume.dims.y,
+                 params.volume.dims.z, params.volume.voxel_size_m * 1000.f,
+                 params.volume.voxel_size_m * largest, deviceName(pipeline.device()).c_str());
+
+  // --bench decodes everything first so the timings hold the four stages only.
+  std::vector<RgbdFrame> preloaded;
+  if (o.bench)
+    for (int i = 0; i < frames; ++i) preloaded.push_back(source->load(i));
+
+  std::unique_ptr<VideoWriter> video;
+  if (!o.renders_dir.empty()) std::filesystem::create_directories(o.renders_dir);
+  Trajectory trajectory;
+  std::vector<std::string> lost;
+  ProgressBar progress(frames, !o.quiet);
+  const auto start = std::chrono::steady_clock::now();
+  FramePrefetcher prefetcher(*source, 0, o.bench ? 0 : frames);
+  for (int i = 0; i < frames; ++i) {
+    RgbdFrame frame = o.bench ? std::move(preloaded[size_t(i)]) : std::move(*prefetcher.next());
+    const FrameResult result = pipeline.processFrame(frame, pose_source);
+    trajectory.push_back({frame.timestamp, result.T_world_cam});
+    if (!result.tracked) lost.push_back(frame.name + ": " + result.lost_reason);
+    if (!o.renders_dir.empty() || !o.video.empty()) {
+      const Prediction prediction = pipeline.predict(true);
+      const ColorImage panel = composeRenderPanel(frame, prediction, pipeline.pose());
+      if (!o.renders_dir.empty()) {
+        char name[32];
+        std::snprintf(name, sizeof(name), "frame_%05d.png", i);
+        writeColorPng((std::filesystem::path(o.renders_dir) / name).string(), panel);
+      }
+      if (!o.video.empty()) {
+        if (!video) video = std::make_unique<VideoWriter>(o.video, panel.width(), panel.height(), 30.0);
+        video->write(panel);
+      }
+    }
+    progress.update(i + 1, lost.empty() ? "" : std::to_string(lost.size()) + " lost");
+  }
+  progress.finish();
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (video) video->close();
+
+  std::printf("tracked %d of %d frames", frames - pipeline.framesLost(), frames);
+  if (!lost.empty()) {
+    std::printf("; %zu lost (last good pose kept, not integrated):\n", lost.size());
+    for (const std::string& l : lost) std::printf("  %s\n", l.c_str());
+  } else {
+    std::printf("\n");
+  }
+  if (labeled) printLabelSummary(labeled->stats(), labeled->classes(), frames);
+  printTimingTable(pipeline.timer(), frames, wall_s);
+
+  if (!o.trajectory.empty()) writeTumTrajectory(o.trajectory, trajectory);
+  if (!o.output.empty()) {
+    const auto t0 = std::chrono::steady_clock::now();
+    SceneMetadata meta;
+    meta.source = o.dataset;
+    meta.frame_count = frames - pipeline.framesLost();
+    meta.software_version = VDBFUSE_VERSION_STRING;
+    if (labeled) meta.classes = labeled->classes();
+    const Scene scene = sceneFromDenseVolume(pipeline.hostVolume(), meta);
+    writeScene(scene, o.output);
+    std::printf("wrote %s (%zu active voxels) in %.2f s\n", o.output.c_str(), scene.activeVoxelCount(),
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+}
+
+void setup(CLI::App& root) {
+  auto o = std::make_shared<ReconstructOptions>();
+  CLI::App* cmd = root.add_subcommand("reconstruct", "Fuse an RGB-D sequence into a scene (.vdb)");
+  cmd->add_option("dataset", o->dataset, "TUM folder, Record3D .r3d file or Record3D export folder")->required();
+  cmd->add_option("-o,--output", o->output, "Scene file to write (.vdb)");
+  cmd->add_option("--trajectory", o->trajectory, "Write the camera trajectory (TUM format)");
+  cmd->add_option("--volume-size", o->volume_size, "Voxels: N or X,Y,Z (multiples of 8)")->capture_default_str();
+  cmd->add_option("--voxel-size-m", o->voxel_size_m, "Voxel edge in metres (default: 3 m / largest dimension)");
+  cmd->add_option("--truncation-m", o->truncation_m, "TSDF truncation in metres (default: 5 voxels)");
+  cmd->add_option("--max-frames", o->max_frames, "Fuse at most this many frames");
+  cmd->add_option("--device", o->device, "cpu, cuda or auto (CUDA when a GPU is usable)")->capture_default_str();
+  cmd->add_option("--poses", o->poses, "icp, given (recorded poses) or given+icp (refine them)")->capture_default_str();
+  cmd->add_option("--intrinsics", o->intrinsics, "fx,fy,cx,cy overriding the dataset's calibration");
+  cmd->add_option("--format", o->source.format, "auto, tum, r3d or r3d-export")->capture_default_str();
+  cmd->add_option("--min-confidence", o->source.min_confidence, "Record3D: lowest depth confidence kept (0-2)")
+      ->capture_default_str();
+  cmd->add_option("--labels", o->labels_dir,
+                  "Folder of per-frame label maps (8/16-bit PNG class ids, by file stem or frame index)");
+  cmd->add_option("--classes", o->classes_file, "Class table JSON for --labels (default: DIR/classes.json); label ids it does not name are fused as "
+                  "unknown and reported");
+  cmd->add_option("--dynamic-classes", o->dynamic_classes,
+                  "Classes kept out of tracking and geometry (names or ids, e.g. person)");
+  cmd->add_option("--mask-dilation-px", o->mask_dilation_px,
+                  "Grow dynamic-class masks by this many pixels (default 4)");
+  cmd->add_option("--labels-missing", o->labels_missing,
+                  "A frame without a label map: skip (fuse it without labels) or error")
+      ->capture_default_str();
+  cmd->add_option("--class-vote", o->class_vote, "majority or probabilistic class fusion")->capture_default_str();
+  cmd->add_option("--class-vote-seed", o->class_vote_seed, "Seed of --class-vote probabilistic")
+      ->capture_default_str();
+  cmd->add_option("--renders", o->renders_dir, "Write input | predicted color | shaded model PNGs per frame here");
+  cmd->add_option("--video", o->video, "Write the same panels as an MP4 video");
+  cmd->add_flag("--bench", o->bench, "Decode all frames first, then time the fusion stages alone");
+  cmd->add_flag("-q,--quiet", o->quiet, "No progress bar");
+  cmd->add_flag("-f,--force", o->force, "Overwrite existing outputs");
+  cmd->callback([o] { runReconstruct(*o); });
+}
+
+}  // namespace
+
+VF_REGISTER_COMMAND(10, setup);
+
+}  // namespace vf::app
