@@ -144,7 +144,9 @@ Scene sceneFromDenseVolume(const DenseVolume& volume, const SceneMetadata& meta)
         if (with_classes) {
           const uint32_t vote = v.class_vote[base + i];
           const uint32_t id = voteClass(vote);
-          out.class_id->setValueOn(o, id == kUnknownClass ? kSceneUnknownClass : int32_t(id));
+          // Confidence 0 means no label ever voted here (the zero-initialised vote), not class 0.
+          const bool voted = voteConfidence(vote) > 0 && id != kUnknownClass;
+          out.class_id->setValueOn(o, voted ? int32_t(id) : kSceneUnknownClass);
           out.confidence->setValueOn(o, float(voteConfidence(vote)));
         }
       }

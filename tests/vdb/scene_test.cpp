@@ -80,8 +80,13 @@ TEST(SceneConversion, UnknownClassVoteBecomesMinusOneAndUnobservedBricksAreSkipp
   v.class_vote[a] = packClassVote(kUnknownClass, 0);
   v.brick_stamp[v.brickIndex(0, 0, 0)] = 5;
   v.tsdf[b] = {1000, 3};  // weighted but its brick has no stamp: not observed, not converted
+  // Fused geometry that no label ever voted on keeps the zero-initialised vote: class unknown,
+  // not class 0 (which a table may well define, e.g. "background").
+  const size_t never_voted = v.voxelIndex(4, 4, 5);
+  v.tsdf[never_voted] = {1000, 3};
   const Scene scene = sceneFromDenseVolume(volume, {});
-  EXPECT_EQ(scene.activeVoxelCount(), 1u);
+  EXPECT_EQ(scene.activeVoxelCount(), 2u);
+  EXPECT_EQ(sceneVoxel(scene, {4, 4, 5}).class_id, kSceneUnknownClass);
   EXPECT_EQ(sceneVoxel(scene, {3, 4, 5}).class_id, kSceneUnknownClass);
   EXPECT_TRUE(sceneVoxel(scene, {3, 4, 5}).active);
   EXPECT_FALSE(sceneVoxel(scene, {20, 20, 20}).active);
