@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# Installs what vdbfuse builds and tests with on Debian 12 (run as root or through sudo).
+set -euo pipefail
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends \
+  build-essential cmake ninja-build ccache pkg-config \
+  libeigen3-dev libtbb-dev libopenvdb-dev libboost-iostreams-dev \
+  libopencv-dev libassimp-dev libzip-dev nlohmann-json3-dev libcli11-dev \
+  libvtk9-dev xvfb xauth \
+  libgtest-dev libbenchmark-dev
