@@ -115,6 +115,7 @@ struct SceneView::Impl {
   SliceActor slice_actor;
   SliceSpec slice;
   int slice_index = 0;
+  bool slice_placed = false;  // slice_index holds a position the user has seen
   vtkNew<vtkTextActor> help_text, info_text, notice_text, hint_text;
   std::vector<std::string> notices;
   vtkNew<vtkCallbackCommand> layout_callback;
@@ -153,7 +154,7 @@ void SceneView::Impl::build() {
   // Antialiasing by FXAA: a post-pass costing milliseconds, where 8x multisampling made the first
   // frame of a 512^3 scene 1-2 s slower under software OpenGL (Xvfb).
   window->SetMultiSamples(0);
-  if (!getenv("VFNOFXAA")) renderer->UseFXAAOn();
+  renderer->UseFXAAOn();
   window->SetWindowName(("vdbfuse-view - " + std::filesystem::path(content.scene_path).filename().string()).c_str());
   renderer->GradientBackgroundOn();
   renderer->SetBackground(kBackgroundBottom[0], kBackgroundBottom[1], kBackgroundBottom[2]);
@@ -246,7 +247,7 @@ void SceneView::Impl::buildOverlays() {
   styleText(help_text, font_px);
   vtkTextProperty* hp = help_text->GetTextProperty();
   hp->SetFontFamilyToCourier();  // columns line up
-  hp->SetJustificationToCentered();
+  hp->SetJustificationToLeft();  // keys and their meanings in columns; centred by the layout
   hp->SetVerticalJustificationToCentered();
   hp->ShadowOff();
   hp->SetBackgroundColor(0.08, 0.09, 0.1);
@@ -255,8 +256,6 @@ void SceneView::Impl::buildOverlays() {
   hp->SetFrameColor(0.6, 0.6, 0.6);
   hp->SetLineSpacing(1.25);
   help_text->SetInput(kHelp);
-  help_text->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
-  help_text->SetPosition(0.5, 0.5);
   help_text->SetLayerNumber(2);
   help_text->VisibilityOff();
   renderer->AddActor2D(help_text);
@@ -277,6 +276,11 @@ void SceneView::Impl::buildOverlays() {
     impl->panel.layout(impl->renderer);
     const int* size = impl->renderer->GetSize();
     impl->hint_text->SetPosition(size[0] - impl->font_px, impl->font_px);
+    if (impl->help_text->GetVisibility()) {
+      double box[4];
+      impl->help_text->GetBoundingBox(impl->renderer, box);
+      impl->help_text->SetPosition(0.5 * (size[0] - (box[1] - box[0])), 0.5 * size[1]);
+    }
   });
   renderer->AddObserver(vtkCommand::StartEvent, layout_callback);
 }
@@ -341,6 +345,7 @@ void SceneView::Impl::showSlice() {
   slice_index = image.index;
   slice.value_m = image.value_m;
   slice.enabled = true;
+  slice_placed = true;
   slice_actor.show(image);
 }
 
@@ -405,9 +410,9 @@ void SceneView::Impl::setSliceAxis(int axis) {
     slice_actor.setVisible(false);
     return;
   }
-  if (!slice.enabled || slice.axis != axis) {
+  if (!slice_placed || slice.axis != axis) {  // a new axis starts in the middle of the scene
     const SliceRange r = sliceRange(content.scene, content.summary, axis);
-    slice_index = slice.axis == axis ? slice_index : (r.first + r.last) / 2;
+    slice_index = (r.first + r.last) / 2;
   }
   slice.axis = axis;
   showSlice();
@@ -512,8 +517,10 @@ void SceneView::Impl::onKey(char key, const std::string& keysym) {
   } else if (key == 'x' || key == 'y' || key == 'z') {
     setSliceAxis(key - 'x');
   } else if (key == '[' || key == ']' || key == '{' || key == '}') {
-    if (!slice.enabled) slice_index = (sliceRange(content.scene, content.summary, slice.axis).first +
-                                       sliceRange(content.scene, content.summary, slice.axis).last) / 2;
+    if (!slice_placed) {
+      const SliceRange r = sliceRange(content.scene, content.summary, slice.axis);
+      slice_index = (r.first + r.last) / 2;
+    }
     moveSlice(key == '[' ? -1 : key == ']' ? 1 : key == '{' ? -10 : 10);
   } else if (key == 'g') {
     slice.grid = slice.grid == SliceGrid::kTsdf ? SliceGrid::kWeight : SliceGrid::kTsdf;

@@ -109,7 +109,7 @@ SliceImage sampleSlice(const Scene& scene, const SceneSummary& summary, SliceGri
   return s;
 }
 
-std::string sliceTitle(SliceGrid grid) { return grid == SliceGrid::kTsdf ? "tsdf [mm]" : "weight [observations]"; }
+std::string sliceTitle(SliceGrid grid) { return grid == SliceGrid::kTsdf ? "tsdf [mm]" : "weight [frames]"; }
 float sliceDisplayScale(SliceGrid grid) { return grid == SliceGrid::kTsdf ? 1000.f : 1.f; }
 
 }  // namespace vf::viewer

@@ -42,7 +42,8 @@ int sliceIndexAt(const Scene& scene, const SceneSummary& summary, int axis, floa
 SliceImage sampleSlice(const Scene& scene, const SceneSummary& summary, SliceGrid grid, int axis, int index);
 
 // The color bar shows tsdf in millimetres (a truncation of 0.0293 m reads as 29): its title
-// "tsdf [mm]" and the factor from the slice's values; weight as it is, "weight [observations]".
+// "tsdf [mm]" and the factor from the slice's values; weight as it is (frames that observed
+// the voxel), "weight [frames]": short enough for the color bar at 640 px.
 std::string sliceTitle(SliceGrid grid);
 float sliceDisplayScale(SliceGrid grid);
 

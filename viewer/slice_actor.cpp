@@ -29,6 +29,7 @@ void SliceActor::attach(vtkRenderer* renderer, int font_px) {
   bar_->SetHeight(0.66);
   bar_->SetBarRatio(0.3);
   bar_->SetTextPositionToSucceedScalarBar();
+  bar_->SetVerticalTitleSeparation(font_px / 2);  // keep the title off the top label
   for (vtkTextProperty* t : {bar_->GetTitleTextProperty(), bar_->GetLabelTextProperty()}) {
     t->SetColor(1, 1, 1);
     t->ShadowOn();

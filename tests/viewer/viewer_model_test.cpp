@@ -162,7 +162,7 @@ TEST(Slice, WeightPlaneAndRangeErrors) {
   EXPECT_FLOAT_EQ(s.range_max, 10.f);  // fillSdf's weight
   for (float x : s.values)
     if (std::isfinite(x)) ASSERT_FLOAT_EQ(x, 10.f);
-  EXPECT_EQ(sliceTitle(SliceGrid::kWeight), "weight [observations]");
+  EXPECT_EQ(sliceTitle(SliceGrid::kWeight), "weight [frames]");
   EXPECT_EQ(sliceTitle(SliceGrid::kTsdf), "tsdf [mm]");
   EXPECT_FLOAT_EQ(sliceDisplayScale(SliceGrid::kTsdf), 1000.f);
   try {
