@@ -382,12 +382,16 @@ FrameResult Pipeline::processFrame(const RgbdFrame& frame, PoseSource pose_sourc
   }
   {
     ScopedStage stage(timer_, "raycast");
-    raycast(T_world_cam_, false);
-    T_world_model_ = T_world_cam_;
-    has_prediction_ = true;
+    raycastForTracking();
   }
   ++frames_processed_;
   return result;
+}
+
+void Pipeline::raycastForTracking() {
+  raycast(T_world_cam_, false);
+  T_world_model_ = T_world_cam_;
+  has_prediction_ = true;
 }
 
 Prediction Pipeline::predict(bool with_color) { return predictFrom(T_world_cam_, with_color); }
@@ -428,6 +432,21 @@ const DenseVolume& Pipeline::hostVolume() {
     (void)n;
   }
   return host_volume_;
+}
+
+std::vector<int> Pipeline::allocatedBrickList() const {
+  std::vector<int> bricks(static_cast<size_t>(allocated_bricks_));
+  buffers_->allocated_list.download(bricks.data(), bricks.size());
+  return bricks;
+}
+
+void Pipeline::setAllocatedBrickList(const std::vector<int>& bricks) {
+  if (bricks.size() > buffers_->allocated_list.size())
+    throw Error("pipeline: " + std::to_string(bricks.size()) + " allocated bricks do not fit a volume of " +
+                std::to_string(buffers_->allocated_list.size()));
+  allocated_bricks_ = int(bricks.size());
+  buffers_->allocated_list.upload(bricks.data(), bricks.size());
+  buffers_->allocated_count.upload(&allocated_bricks_, 1);
 }
 
 }  // namespace vf

@@ -76,6 +76,15 @@ class Pipeline {
   FrameResult track(const Pose& initial_guess);
   void integrate();
   void raycast(const Pose& T_world_cam, bool with_color);
+  // The model prediction tracking uses: a raycast from T_world_cam_, which becomes T_world_model_.
+  void raycastForTracking();
+
+  // Checkpoints (fusion/pipeline_state.h) save and restore the frame state of this class.
+  friend struct PipelineStateAccess;
+  // The allocated-brick list (order of first touch), downloaded from / uploaded to the backend;
+  // the setter also sets allocated_bricks_.
+  std::vector<int> allocatedBrickList() const;
+  void setAllocatedBrickList(const std::vector<int>& bricks);
 
   PipelineParams params_;
   Intrinsics intrinsics_;
