@@ -3,9 +3,10 @@
 // backend. The functor is the single definition of the rule; TBB and CUDA merely iterate it.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_reduce.h>
 
+#include <algorithm>
 #include <array>
+#include <vector>
 
 #include "core/error.h"
 #include "fusion/cuda_api.h"
@@ -30,8 +31,10 @@ void parallelFor(Device device, int n, const F& f) {
 }
 
 // Reduction of fixed-size float rows: f is `VF_HD bool operator()(int i, float* row) const`
-// returning false when element i contributes nothing. Partial sums are kept in double so the
-// result does not depend on how the range was split beyond rounding of the last bits.
+// returning false when element i contributes nothing. The CPU sum is deterministic: the range is
+// cut into fixed chunks (independent of the thread count and of TBB's work stealing), each chunk
+// is summed on its own, and the chunk sums are added in order. ICP poses, and so the fused
+// volume, are then bit-identical from run to run (checkpoint/resume relies on it).
 template <int N, class F>
 std::array<double, N> parallelReduce(Device device, int n, const F& f) {
   std::array<double, N> total{};
@@ -44,28 +47,31 @@ std::array<double, N> parallelReduce(Device device, int n, const F& f) {
     throw Error("CUDA backend requested but vdbfuse was built without CUDA");
 #endif
   }
-  return tbb::parallel_reduce(
-      tbb::blocked_range<int>(0, n, 4096), total,
-      [&](const tbb::blocked_range<int>& r, std::array<double, N> acc) {
-        float row[N];
-        // Accumulate a chunk in float (fast), then fold into double.
-        float chunk[N] = {};
-        int in_chunk = 0;
-        for (int i = r.begin(); i != r.end(); ++i) {
-          if (!f(i, row)) continue;
-          for (int k = 0; k < N; ++k) chunk[k] += row[k];
-          if (++in_chunk == 256) {
-            for (int k = 0; k < N; ++k) acc[k] += chunk[k], chunk[k] = 0.f;
-            in_chunk = 0;
-          }
+  constexpr int kChunk = 4096;
+  const int chunks = (n + kChunk - 1) / kChunk;
+  std::vector<std::array<double, N>> partial(size_t(chunks), std::array<double, N>{});
+  tbb::parallel_for(tbb::blocked_range<int>(0, chunks, 1), [&](const tbb::blocked_range<int>& r) {
+    for (int c = r.begin(); c != r.end(); ++c) {
+      std::array<double, N>& acc = partial[size_t(c)];
+      float row[N];
+      // Accumulate 256 rows in float (fast), then fold into double.
+      float chunk[N] = {};
+      int in_chunk = 0;
+      const int end = std::min(n, (c + 1) * kChunk);
+      for (int i = c * kChunk; i != end; ++i) {
+        if (!f(i, row)) continue;
+        for (int k = 0; k < N; ++k) chunk[k] += row[k];
+        if (++in_chunk == 256) {
+          for (int k = 0; k < N; ++k) acc[k] += chunk[k], chunk[k] = 0.f;
+          in_chunk = 0;
         }
-        for (int k = 0; k < N; ++k) acc[k] += chunk[k];
-        return acc;
-      },
-      [](std::array<double, N> a, const std::array<double, N>& b) {
-        for (int k = 0; k < N; ++k) a[k] += b[k];
-        return a;
-      });
+      }
+      for (int k = 0; k < N; ++k) acc[k] += chunk[k];
+    }
+  });
+  for (const std::array<double, N>& p : partial)
+    for (int k = 0; k < N; ++k) total[k] += p[k];
+  return total;
 }
 
 }  // namespace vf
