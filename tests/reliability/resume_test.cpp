@@ -1,0 +1,126 @@
+// Checkpoint and resume (fusion/pipeline_state.h) on real data, CPU backend: a run stopped after
+// frame k and resumed from its checkpoint ends with the same volume, voxel for voxel, and the
+// same poses, bit for bit, as a run that never stopped. Runs must also be deterministic.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <functional>
+#include <fstream>
+#include <iterator>
+
+#include "core/error.h"
+#include "fusion/pipeline_state.h"
+#include "io/tum_dataset.h"
+#include "reliability/volume_compare.h"
+#include "test_data.h"
+
+namespace vf {
+namespace {
+
+constexpr int kFrames = 14;
+
+std::vector<Pose> fuse(Pipeline& p, const TumDataset& data, int first, int end) {
+  std::vector<Pose> poses;
+  for (int i = first; i < end; ++i) {
+    const FrameResult r = p.processFrame(data.load(i));
+    poses.push_back(r.T_world_cam);
+  }
+  return poses;
+}
+
+class ResumeTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    VF_REQUIRE_DATA(folder, "tum_fr3_teddy_head60");
+    data_ = std::make_unique<TumDataset>(folder);
+    dir_ = test::tempDir("resume");
+  }
+  std::unique_ptr<TumDataset> data_;
+  std::string dir_;
+};
+
+TEST_F(ResumeTest, CpuRunsAreBitIdentical) {
+  Pipeline a(test::teddyParams(), data_->depthIntrinsics(), Device::Cpu);
+  Pipeline b(test::teddyParams(), data_->depthIntrinsics(), Device::Cpu);
+  const std::vector<Pose> pa = fuse(a, *data_, 0, kFrames);
+  const std::vector<Pose> pb = fuse(b, *data_, 0, kFrames);
+  for (int i = 0; i < kFrames; ++i) EXPECT_TRUE(test::sameBits(pa[size_t(i)], pb[size_t(i)])) << "frame " << i;
+  EXPECT_EQ(test::firstDifferentBrick(a.hostVolume(), b.hostVolume()), -1);
+}
+
+TEST_F(ResumeTest, ResumedRunEqualsUninterruptedRun) {
+  Pipeline full(test::teddyParams(), data_->depthIntrinsics(), Device::Cpu);
+  const std::vector<Pose> reference = fuse(full, *data_, 0, kFrames);
+  ASSERT_EQ(full.framesLost(), 0);
+  // Stop at several points, including right after the first frame (world = first camera).
+  for (int stop : {1, 5, 9}) {
+    SCOPED_TRACE("stopped after frame " + std::to_string(stop));
+    const std::string path = dir_ + "/run.checkpoint";
+    std::vector<Pose> poses;
+    {
+      Pipeline first(test::teddyParams(), data_->depthIntrinsics(), Device::Cpu);
+      poses = fuse(first, *data_, 0, stop);
+      savePipelineState(first, path, "app data\nline 2");
+    }
+    Pipeline resumed(test::teddyParams(), data_->depthIntrinsics(), Device::Cpu);
+    std::string annotations;
+    restorePipelineState(resumed, path, &annotations);
+    EXPECT_EQ(annotations, "app data\nline 2");
+    EXPECT_EQ(resumed.framesProcessed(), stop);
+    const std::vector<Pose> rest = fuse(resumed, *data_, stop, kFrames);
+    poses.insert(poses.end(), rest.begin(), rest.end());
+    ASSERT_EQ(poses.size(), reference.size());
+    for (int i = 0; i < kFrames; ++i)
+      EXPECT_TRUE(test::sameBits(poses[size_t(i)], reference[size_t(i)])) << "frame " << i;
+    EXPECT_EQ(resumed.framesLost(), full.framesLost());
+    EXPECT_EQ(test::firstDifferentBrick(resumed.hostVolume(), full.hostVolume()), -1);
+    EXPECT_GT(full.hostVolume().observedBricks().size(), 100u);
+  }
+}
+
+TEST_F(ResumeTest, MismatchingOrDamagedCheckpointIsRefusedWithAReason) {
+  const std::string path = dir_ + "/run.checkpoint";
+  {
+    Pipeline p(test::teddyParams(), data_->depthIntrinsics(), Device::Cpu);
+    fuse(p, *data_, 0, 3);
+    savePipelineState(p, path);
+  }
+  auto message = [](const std::function<void()>& f) {
+    try {
+      f();
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  // Another volume size.
+  Pipeline other(test::teddyParams(64), data_->depthIntrinsics(), Device::Cpu);
+  EXPECT_NE(message([&] { restorePipelineState(other, path); }).find("--volume-size"), std::string::npos);
+  // Another camera.
+  Intrinsics k = data_->depthIntrinsics();
+  k.fx += 1.f;
+  Pipeline camera(test::teddyParams(), k, Device::Cpu);
+  EXPECT_NE(message([&] { restorePipelineState(camera, path); }).find("another camera"), std::string::npos);
+  // A pipeline that already fused a frame.
+  Pipeline busy(test::teddyParams(), data_->depthIntrinsics(), Device::Cpu);
+  fuse(busy, *data_, 0, 1);
+  EXPECT_NE(message([&] { restorePipelineState(busy, path); }).find("before its first frame"), std::string::npos);
+  // One flipped byte, and a truncated copy.
+  std::ifstream in(path, std::ios::binary);
+  std::vector<char> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  ASSERT_GT(bytes.size(), 1000u);
+  bytes[bytes.size() / 2] ^= 0x10;
+  std::ofstream(dir_ + "/flipped.checkpoint", std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
+  std::ofstream(dir_ + "/short.checkpoint", std::ios::binary).write(bytes.data(), std::streamsize(bytes.size() / 3));
+  Pipeline fresh(test::teddyParams(), data_->depthIntrinsics(), Device::Cpu);
+  EXPECT_NE(message([&] { restorePipelineState(fresh, dir_ + "/flipped.checkpoint"); }).find("checksum"),
+            std::string::npos);
+  EXPECT_NE(message([&] { restorePipelineState(fresh, dir_ + "/short.checkpoint"); }).find("short.checkpoint"),
+            std::string::npos);
+  EXPECT_NE(message([&] { restorePipelineState(fresh, dir_ + "/missing.checkpoint"); }).find("does not exist"),
+            std::string::npos);
+  EXPECT_EQ(fresh.framesProcessed(), 0);
+}
+
+}  // namespace
+}  // namespace vf
