@@ -5,6 +5,7 @@
 #include <exception>
 
 #include "app/command_registry.h"
+#include "app/run_control.h"
 #include "core/error.h"
 #include "core/version.h"
 
@@ -18,6 +19,8 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
+  } catch (const vf::app::ExitWithStatus& e) {
+    return e.status;  // the command already said why
   } catch (const vf::Error& e) {
     std::fprintf(stderr, "vdbfuse: error: %s\n", e.what());
     return 1;
