@@ -94,7 +94,7 @@ ClassTable parseClassTable(const std::string& json_text, const std::string& sour
   };
   try {
     doc = json::parse(json_text, find_duplicates);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, and out_of_range for numbers like 4e33336
     throw Error(source + ": not valid JSON (" + e.what() + ")");
   }
   if (!duplicate_key.empty()) throw Error(source + ": key '" + duplicate_key + "' appears twice");

@@ -1,0 +1,92 @@
+#!/usr/bin/env python3
+"""Writes the committed seed corpora of tests/fuzz/corpus/<target>/ (hand-made bytes, a few KB).
+
+Run from the repository root: python3 tests/fuzz/make_seeds.py. The scene seed (corpus/scene/)
+comes from vdbfuse itself (reconstruct + edit --crop-box) and is not regenerated here.
+"""
+import io
+import json
+import os
+import struct
+import zipfile
+import zlib
+
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "corpus")
+
+
+def put(target, name, data):
+    d = os.path.join(ROOT, target)
+    os.makedirs(d, exist_ok=True)
+    with open(os.path.join(d, name), "wb") as f:
+        f.write(data if isinstance(data, bytes) else data.encode())
+
+
+def png(width, height, bit_depth, color_type, pixel_bytes):
+    """A PNG with filter type 0 rows; pixel_bytes(x, y) gives the raw bytes of one pixel."""
+    def chunk(kind, body):
+        return struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body))
+    raw = b"".join(b"\0" + b"".join(pixel_bytes(x, y) for x in range(width)) for y in range(height))
+    ihdr = struct.pack(">IIBBBBB", width, height, bit_depth, color_type, 0, 0, 0)
+    return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b"")
+
+
+def lzfse_raw(payload):
+    return b"bvx-" + struct.pack("<I", len(payload)) + payload + b"bvx$"
+
+
+def lzvn():
+    # Same hand-assembled LZVN block as tests/record3d/test_lzfse.cpp ("abcabcabcabxabxa").
+    payload = bytes([0xE3]) + b"abc" + bytes([0x28, 0x03, 0x46]) + b"x" + bytes([0xF1, 0x06, 0, 0, 0, 0, 0, 0, 0])
+    return b"bvxn" + struct.pack("<II", 16, len(payload)) + payload + b"bvx$"
+
+
+# --- TUM lists and camera_intrinsics.txt
+put("tum_list", "depth.txt", "# depth maps\n# file: 'rgbd_dataset_freiburg3_teddy.bag'\n# timestamp filename\n"
+    "1341841278.842683 depth/1341841278.842683.png\n1341841278.874628 depth/1341841278.874628.png\n")
+put("tum_list", "rgb_tabs.txt", "1341841278.8427\trgb/a.png\r\n1341841278.8747,rgb/b.png extra\n")
+put("tum_list", "intrinsics.txt", "# fx fy cx cy\n517.3 516.5 318.6 255.3\n0.2624 -0.9531 -0.0054 0.0026 1.1633\n")
+put("tum_list", "pinhole.txt", "525.0, 525.0, 319.5, 239.5")
+
+# --- images: 16-bit depth, 8-bit labels, RGB, grey+alpha 16-bit
+put("image", "depth16.png", png(4, 3, 16, 0, lambda x, y: struct.pack(">H", 5000 + 100 * x + 7 * y)))
+put("image", "labels8.png", png(5, 4, 8, 0, lambda x, y: bytes([(x + y) % 3])))
+put("image", "rgb8.png", png(3, 3, 8, 2, lambda x, y: bytes([40 * x, 40 * y, 200])))
+put("image", "ga16.png", png(2, 2, 16, 4, lambda x, y: struct.pack(">HH", 1000 * x, 65535)))
+put("image", "palette.png", png(2, 2, 8, 3, lambda x, y: bytes([0])))  # no PLTE: invalid on purpose
+
+# --- LZFSE: uncompressed block, LZVN block, two blocks, empty stream
+put("lzfse", "raw.bin", lzfse_raw(b"hello world, hello world"))
+put("lzfse", "lzvn.bin", lzvn())
+put("lzfse", "two_blocks.bin", lzfse_raw(b"abc")[:-4] + lzvn())
+put("lzfse", "empty.bin", b"bvx$")
+
+# --- Record3D metadata and a two-frame .r3d (depth/conf as uncompressed LZFSE blocks)
+K = [4.0, 0.0, 0.0, 0.0, 4.0, 0.0, 8.0, 6.0, 1.0]
+meta = {"w": 16, "h": 12, "dw": 16, "dh": 12, "K": K, "fps": 60,
+        "poses": [[0, 0, 0, 1, 0, 0, 0], [0, 0.0087, 0, 0.99996, 0.01, 0, 0]],
+        "frameTimestamps": [0.0, 0.0167]}
+put("r3d_metadata", "metadata.json", json.dumps(meta))
+put("r3d_metadata", "no_depth_size.json", json.dumps({"w": 8, "h": 8, "K": K, "fps": 30, "poses": []}))
+depth = b"".join(struct.pack("<f", 1.0 + 0.01 * i) for i in range(16 * 12))
+conf = bytes([2, 1, 0, 2] * (16 * 12 // 4))
+color = png(16, 12, 8, 2, lambda x, y: bytes([10 * x, 10 * y, 128]))
+buf = io.BytesIO()
+with zipfile.ZipFile(buf, "w", zipfile.ZIP_STORED) as z:
+    z.writestr("metadata", json.dumps(meta))
+    for i in range(2):
+        z.writestr(f"rgbd/{i}.depth", lzfse_raw(depth))
+        z.writestr(f"rgbd/{i}.conf", lzfse_raw(conf))
+        z.writestr(f"rgbd/{i}.jpg", color)
+put("r3d", "two_frames.r3d", buf.getvalue())
+
+# --- class tables: the three accepted forms
+put("class_table", "list.json", json.dumps([{"id": 0, "name": "wall", "color": [120, 120, 120]},
+                                            {"id": 12, "name": "person"}]))
+put("class_table", "object.json", json.dumps({"classes": [{"id": 1, "name": "chair"}], "description": "x"}))
+put("class_table", "map.json", json.dumps({"0": "background", "15": "person"}))
+
+# --- trajectories
+put("trajectory", "tum.txt", "# timestamp tx ty tz qx qy qz qw\n"
+    "1305031102.175304 1.3405 0.6266 1.6575 0.6574 0.6126 -0.2949 -0.3248\n"
+    "1305031102.211214 1.3303,0.6256,1.6464,0.6579,0.6161,-0.2932,-0.3189\n")
+put("trajectory", "exp.txt", "1e3 1e-3 -2E+1 0 0 0 0 1\r\n")
