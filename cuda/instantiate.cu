@@ -4,6 +4,7 @@
 #include "fusion/icp_kernels.h"
 #include "fusion/integrate_kernels.h"
 #include "fusion/measurement_kernels.h"
+#include "fusion/photometric_kernels.h"
 #include "fusion/raycast_kernels.h"
 #include "fusion/semantic_kernels.h"
 #include "parallel.cuh"
@@ -25,8 +26,11 @@ VF_CUDA_FOR(BilateralFilterKernel)
 VF_CUDA_FOR(DownsampleDepthKernel)
 VF_CUDA_FOR(VertexMapKernel)
 VF_CUDA_FOR(NormalMapKernel)
-// track (icp_kernels.h)
+VF_CUDA_FOR(IntensityKernel)
+VF_CUDA_FOR(DownsampleIntensityKernel)
+// track (icp_kernels.h, photometric_kernels.h)
 template void parallelReduce<kIcpRowSize, IcpKernel>(int, const IcpKernel&, double*);
+template void parallelReduce<kIcpRowSize, PhotometricKernel>(int, const PhotometricKernel&, double*);
 // integrate (integrate_kernels.h)
 VF_CUDA_FOR(MarkBricksKernel)
 VF_CUDA_FOR(CollectBricksKernel)
@@ -36,6 +40,7 @@ VF_CUDA_FOR(ClearRangeKernel)
 VF_CUDA_FOR(BrickRangeKernel)
 VF_CUDA_FOR(RaycastKernel)
 VF_CUDA_FOR(DownsamplePredictionKernel)
+VF_CUDA_FOR(DownsampleModelIntensityKernel)
 
 #undef VF_CUDA_FOR
 

@@ -35,6 +35,10 @@ void IcpParams::validate() const {
   require(max_normal_angle_deg > 0 && max_normal_angle_deg <= 90, "icp max_normal_angle_deg",
           max_normal_angle_deg, "must be in (0, 90]");
   require(huber_m > 0, "icp huber_m", huber_m, "must be > 0");
+  require(photometric_weight >= 0, "icp photometric_weight", photometric_weight, "must be >= 0");
+  require(photometric_huber > 0, "icp photometric_huber", photometric_huber, "must be > 0");
+  require(photometric_stride_px >= 1 && photometric_stride_px <= 8, "icp photometric_stride_px",
+          photometric_stride_px, "must be in [1, 8]");
   require(min_inlier_fraction >= 0 && min_inlier_fraction < 1, "icp min_inlier_fraction",
           min_inlier_fraction, "must be in [0, 1)");
   require(max_rmse_m > 0, "icp max_rmse_m", max_rmse_m, "must be > 0");

@@ -26,6 +26,13 @@ struct IcpParams {
   float max_distance_m = 0.10f;       // correspondence distance rejection
   float max_normal_angle_deg = 30.f;  // correspondence normal-angle rejection
   float huber_m = 0.02f;              // robust weight threshold on point-to-plane residuals
+  // Photometric term (model colour against the current image), weighted relative to the
+  // point-to-plane term as (sigma_depth / sigma_grey)^2; 0 disables it. Used when frames have
+  // colour.
+  float photometric_weight = 0.1f;
+  float photometric_huber = 0.1f;     // grey levels in [0, 1]
+  int photometric_finest_level = 0;   // pyramid levels finer than this use geometry alone
+  int photometric_stride_px = 2;      // at level 0, every stride-th model pixel in x and y
   // Tracking-loss detection: the frame is rejected (last good pose kept, not integrated) when
   float min_inlier_fraction = 0.15f;  // fewer of the valid measured pixels found a partner,
   float max_rmse_m = 0.03f;           // the point-to-plane RMSE stays above this,

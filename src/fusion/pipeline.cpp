@@ -9,6 +9,7 @@
 #include "fusion/integrate_kernels.h"
 #include "fusion/measurement_kernels.h"
 #include "fusion/parallel.h"
+#include "fusion/photometric_kernels.h"
 #include "fusion/raycast_kernels.h"
 #include "fusion/semantic_kernels.h"
 
@@ -27,6 +28,8 @@ struct Pipeline::Buffers {
   ImageBuffer<Vec3f> vertex[kLevels], normal[kLevels];              // measured, camera frame
   ImageBuffer<Vec3f> model_vertex[kLevels], model_normal[kLevels];  // predicted, world frame
   ImageBuffer<Rgb8> model_color;
+  ImageBuffer<float> intensity[kLevels];        // current frame, grey in [0, 1]
+  ImageBuffer<float> model_intensity[kLevels];  // prediction, -1 where uncoloured
   Buffer<int> brick_list;        // bricks touched by the current frame
   Buffer<int> brick_count;
   Buffer<int> allocated_list;    // bricks touched by any frame, in order of first touch
@@ -108,6 +111,8 @@ Pipeline::Pipeline(const PipelineParams& params, const Intrinsics& depth_intrins
     b.normal[l].allocate(d, w >> l, h >> l);
     b.model_vertex[l].allocate(d, w >> l, h >> l);
     b.model_normal[l].allocate(d, w >> l, h >> l);
+    b.intensity[l].allocate(d, w >> l, h >> l);
+    b.model_intensity[l].allocate(d, w >> l, h >> l);
   }
   b.model_color.allocate(d, w, h);
   b.brick_list.allocate(d, size_t(volume_.brickCount()));
@@ -121,6 +126,10 @@ Pipeline::Pipeline(const PipelineParams& params, const Intrinsics& depth_intrins
 }
 
 Pipeline::~Pipeline() = default;
+
+bool Pipeline::photometricActive() const {
+  return params_.icp.photometric_weight > 0.f && has_color_ && model_has_intensity_;
+}
 
 void Pipeline::setDynamicClasses(const std::vector<int>& class_ids) {
   std::vector<uint8_t> table(65536, 0);
@@ -163,6 +172,12 @@ void Pipeline::measure(const RgbdFrame& frame) {
                 ApplyMaskKernel{constView(b.raw_depth), constView(b.static_mask), b.fuse_depth.view()});
     depth_for_geometry = constView(b.fuse_depth);
   }
+  if (has_color_) {
+    parallelFor(device_, w * h, IntensityKernel{constView(b.color), b.intensity[0].view()});
+    for (int l = 1; l < kLevels; ++l)
+      parallelFor(device_, b.intensity[l].size(),
+                  DownsampleIntensityKernel{constView(b.intensity[l - 1]), b.intensity[l].view()});
+  }
   const MeasurementParams& m = params_.measurement;
   BilateralFilterKernel bilateral;
   bilateral.depth_in = depth_for_geometry;
@@ -203,10 +218,29 @@ FrameResult Pipeline::track(const Pose& initial_guess) {
     icp.max_distance_m = p.max_distance_m;
     icp.min_normal_cos = std::cos(p.max_normal_angle_deg * float(M_PI) / 180.f);
     icp.huber_m = p.huber_m;
+    PhotometricKernel photo;
+    const bool use_photometric = photometricActive() && l >= p.photometric_finest_level;
+    if (use_photometric) {
+      photo.model_vertex = constView(b.model_vertex[l]);
+      photo.model_normal = constView(b.model_normal[l]);
+      photo.model_intensity = constView(b.model_intensity[l]);
+      photo.intensity = constView(b.intensity[l]);
+      photo.depth = constView(b.depth[l]);
+      photo.intrinsics = intrinsics_.atLevel(l);
+      photo.weight = p.photometric_weight;
+      photo.huber = p.photometric_huber;
+      photo.stride_px = l == 0 ? p.photometric_stride_px : 1;
+    }
     for (int it = 0; it < p.iterations[l]; ++it) {
       icp.T_world_cam = toRigid3f(T);
       sums = parallelReduce<kIcpRowSize>(device_, b.vertex[l].size(), icp);
       if (sums[28] < 6) break;
+      if (use_photometric) {
+        photo.T_world_cam = icp.T_world_cam;
+        photo.T_cam_world = toRigid3f(T.inverse());
+        const auto photometric = parallelReduce<kIcpRowSize>(device_, photo.count(), photo);
+        for (int k = 0; k < 27; ++k) sums[k] += photometric[k];
+      }
       Eigen::Matrix<double, 6, 6> A;
       Eigen::Matrix<double, 6, 1> rhs;
       int k = 0;
@@ -336,6 +370,12 @@ void Pipeline::raycast(const Pose& T_world_cam, bool with_color) {
   ray.range_max = b.range_max.data();
   ray.tiles_x = b.tiles_x;
   parallelFor(device_, b.model_vertex[0].size(), ray);
+  if (with_color) {
+    parallelFor(device_, b.model_color.size(), IntensityKernel{constView(b.model_color), b.model_intensity[0].view()});
+    for (int l = 1; l < kLevels; ++l)
+      parallelFor(device_, b.model_intensity[l].size(),
+                  DownsampleModelIntensityKernel{constView(b.model_intensity[l - 1]), b.model_intensity[l].view()});
+  }
   for (int l = 1; l < kLevels; ++l)
     parallelFor(device_, b.model_vertex[l].size(),
                 DownsamplePredictionKernel{constView(b.model_vertex[l - 1]), constView(b.model_normal[l - 1]),
@@ -389,7 +429,8 @@ FrameResult Pipeline::processFrame(const RgbdFrame& frame, PoseSource pose_sourc
 }
 
 void Pipeline::raycastForTracking() {
-  raycast(T_world_cam_, false);
+  raycast(T_world_cam_, params_.icp.photometric_weight > 0.f);
+  model_has_intensity_ = params_.icp.photometric_weight > 0.f;
   T_world_model_ = T_world_cam_;
   has_prediction_ = true;
 }
@@ -410,7 +451,8 @@ Prediction Pipeline::predictFrom(const Pose& T_world_cam, bool with_color) {
     b.model_color.buffer.download(out.color.data(), size_t(w) * h);
   }
   // Restore the tracking prediction if a different pose was rendered.
-  if (has_prediction_ && !(T_world_cam.matrix() == T_world_model_.matrix())) raycast(T_world_model_, false);
+  if (has_prediction_ && !(T_world_cam.matrix() == T_world_model_.matrix()))
+    raycast(T_world_model_, model_has_intensity_);
   return out;
 }
 

@@ -85,6 +85,7 @@ class Pipeline {
   // the setter also sets allocated_bricks_.
   std::vector<int> allocatedBrickList() const;
   void setAllocatedBrickList(const std::vector<int>& bricks);
+  bool photometricActive() const;
 
   PipelineParams params_;
   Intrinsics intrinsics_;
@@ -100,6 +101,7 @@ class Pipeline {
   bool has_prediction_ = false;
   bool has_labels_ = false;
   bool has_color_ = false;
+  bool model_has_intensity_ = false;  // the prediction carries model_intensity
   int frames_processed_ = 0;
   int frames_lost_ = 0;
   int allocated_bricks_ = 0;  // length of the allocated-brick list
