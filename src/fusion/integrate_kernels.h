@@ -112,11 +112,22 @@ struct IntegrateKernel {
   uint32_t vote_seed = 0;
   uint32_t stamp = 0;               // the frame's brick stamp (1-based), hashed by the vote
 
-  VF_HD void operator()(int i) const {
-    const int brick = bricks[i / kBrickVoxels];
-    const size_t index = size_t(brick) * kBrickVoxels + size_t(i % kBrickVoxels);
-    const Vec3i c = volume.voxelCoord(index);
-    const Vec3f p = T_cam_world * volume.voxelCenter(c.x, c.y, c.z);
+  // Work item: one row of 8 voxels along x inside a marked brick (64 rows per brick). The row's
+  // camera-space points are stepped incrementally instead of transformed one by one.
+  static constexpr int kRowsPerBrick = kBrickSize * kBrickSize;
+
+  VF_HD void operator()(int row_item) const {
+    const int brick = bricks[row_item / kRowsPerBrick];
+    const int row = row_item % kRowsPerBrick;  // (z & 7) * 8 + (y & 7)
+    const size_t first = size_t(brick) * kBrickVoxels + size_t(row) * kBrickSize;
+    const Vec3i c = volume.voxelCoord(first);
+    const Vec3f p0 = T_cam_world * volume.voxelCenter(c.x, c.y, c.z);
+    const Vec3f step = T_cam_world.rotate(Vec3f{volume.voxel_size_m, 0.f, 0.f});
+    for (int k = 0; k < kBrickSize; ++k) updateVoxel(first + size_t(k), p0 + step * float(k));
+  }
+
+  // Eq. (11)-(12) for one voxel whose centre is p in camera coordinates.
+  VF_HD void updateVoxel(size_t index, Vec3f p) const {
     if (p.z <= 0.f) return;
     float u, v;
     intrinsics.project(p, u, v);

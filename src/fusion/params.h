@@ -22,7 +22,7 @@ struct MeasurementParams {
 
 struct IcpParams {
   // Iterations per pyramid level, finest first (KinectFusion: 10, 5, 4 coarse to fine).
-  std::array<int, 3> iterations{4, 5, 10};
+  std::array<int, 3> iterations{3, 5, 10};
   float max_distance_m = 0.10f;       // correspondence distance rejection
   float max_normal_angle_deg = 30.f;  // correspondence normal-angle rejection
   float huber_m = 0.02f;              // robust weight threshold on point-to-plane residuals

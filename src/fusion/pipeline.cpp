@@ -206,8 +206,7 @@ FrameResult Pipeline::track(const Pose& initial_guess) {
   FrameResult result;
   Pose T = initial_guess;
   const Rigid3f T_model_world = toRigid3f(T_world_model_.inverse());
-  std::array<double, kIcpRowSize> sums{};
-  for (int l = kLevels - 1; l >= 0; --l) {
+  auto icpAtLevel = [&](int l) {
     IcpKernel icp;
     icp.vertex_cam = constView(b.vertex[l]);
     icp.normal_cam = constView(b.normal[l]);
@@ -218,6 +217,14 @@ FrameResult Pipeline::track(const Pose& initial_guess) {
     icp.max_distance_m = p.max_distance_m;
     icp.min_normal_cos = std::cos(p.max_normal_angle_deg * float(M_PI) / 180.f);
     icp.huber_m = p.huber_m;
+    return icp;
+  };
+  // Geometric sums of the last finest-level iteration: the tracking-loss statistics. They
+  // describe the pose before that iteration's (converged, tiny) update, which saves a pass.
+  std::array<double, kIcpRowSize> sums{};
+  bool have_finest_sums = false;
+  for (int l = kLevels - 1; l >= 0; --l) {
+    IcpKernel icp = icpAtLevel(l);
     PhotometricKernel photo;
     const bool use_photometric = photometricActive() && l >= p.photometric_finest_level;
     if (use_photometric) {
@@ -234,37 +241,29 @@ FrameResult Pipeline::track(const Pose& initial_guess) {
     for (int it = 0; it < p.iterations[l]; ++it) {
       icp.T_world_cam = toRigid3f(T);
       sums = parallelReduce<kIcpRowSize>(device_, b.vertex[l].size(), icp);
+      have_finest_sums = l == 0;
       if (sums[28] < 6) break;
+      std::array<double, kIcpRowSize> system = sums;
       if (use_photometric) {
         photo.T_world_cam = icp.T_world_cam;
         photo.T_cam_world = toRigid3f(T.inverse());
         const auto photometric = parallelReduce<kIcpRowSize>(device_, photo.count(), photo);
-        for (int k = 0; k < 27; ++k) sums[k] += photometric[k];
+        for (int k = 0; k < 27; ++k) system[k] += photometric[k];
       }
       Eigen::Matrix<double, 6, 6> A;
       Eigen::Matrix<double, 6, 1> rhs;
       int k = 0;
       for (int r = 0; r < 6; ++r)
-        for (int c = r; c < 6; ++c) A(r, c) = A(c, r) = sums[k++];
-      for (int r = 0; r < 6; ++r) rhs(r) = -sums[k++];
+        for (int c = r; c < 6; ++c) A(r, c) = A(c, r) = system[k++];
+      for (int r = 0; r < 6; ++r) rhs(r) = -system[k++];
       const Eigen::Matrix<double, 6, 1> xi = A.ldlt().solve(rhs);
       if (!xi.allFinite()) break;
       T = twistToPose(xi) * T;
       if (xi.head<3>().norm() < 1e-6 && xi.tail<3>().norm() < 1e-6) break;  // converged
     }
   }
-  // Final statistics at the finest level, for tracking-loss detection.
-  {
-    IcpKernel icp;
-    icp.vertex_cam = constView(b.vertex[0]);
-    icp.normal_cam = constView(b.normal[0]);
-    icp.model_vertex = constView(b.model_vertex[0]);
-    icp.model_normal = constView(b.model_normal[0]);
-    icp.model_intrinsics = intrinsics_;
-    icp.T_model_world = T_model_world;
-    icp.max_distance_m = p.max_distance_m;
-    icp.min_normal_cos = std::cos(p.max_normal_angle_deg * float(M_PI) / 180.f);
-    icp.huber_m = p.huber_m;
+  if (!have_finest_sums) {  // no finest-level iteration ran: measure the final pose there
+    IcpKernel icp = icpAtLevel(0);
     icp.T_world_cam = toRigid3f(T);
     sums = parallelReduce<kIcpRowSize>(device_, b.vertex[0].size(), icp);
   }
@@ -336,7 +335,7 @@ void Pipeline::integrate() {
   kernel.probabilistic_vote = params_.integration.class_vote == ClassVote::Probabilistic;
   kernel.vote_seed = params_.integration.class_vote_seed;
   kernel.stamp = stamp;
-  parallelFor(device_, brick_count * kBrickVoxels, kernel);
+  parallelFor(device_, brick_count * IntegrateKernel::kRowsPerBrick, kernel);
 }
 
 void Pipeline::raycast(const Pose& T_world_cam, bool with_color) {
