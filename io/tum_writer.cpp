@@ -35,12 +35,21 @@ void writePngAtomic(const fs::path& target, const cv::Mat& image) {
   try {
     ok = cv::imwrite(tmp.string(), image);
   } catch (const cv::Exception& e) {
+    std::error_code ignored;
+    fs::remove(tmp, ignored);
     throw Error(target.string() + ": cannot write PNG (" + e.what() + ")");
   }
-  if (!ok) throw Error(target.string() + ": cannot write PNG");
   std::error_code ec;
+  if (!ok) {
+    fs::remove(tmp, ec);
+    throw Error(target.string() + ": cannot write PNG");
+  }
   fs::rename(tmp, target, ec);
-  if (ec) throw Error(target.string() + ": cannot rename the written PNG (" + ec.message() + ")");
+  if (ec) {
+    const std::string why = ec.message();
+    fs::remove(tmp, ec);
+    throw Error(target.string() + ": cannot rename the written PNG (" + why + ")");
+  }
 }
 
 void writeTextAtomic(const fs::path& target, const std::string& text) {
@@ -49,11 +58,20 @@ void writeTextAtomic(const fs::path& target, const std::string& text) {
     std::ofstream f(tmp, std::ios::binary);
     f << text;
     f.flush();
-    if (!f) throw Error(target.string() + ": cannot write");
+    if (!f) {
+      f.close();
+      std::error_code ignored;
+      fs::remove(tmp, ignored);
+      throw Error(target.string() + ": cannot write (disk full or not writable?)");
+    }
   }
   std::error_code ec;
   fs::rename(tmp, target, ec);
-  if (ec) throw Error(target.string() + ": cannot rename the written file (" + ec.message() + ")");
+  if (ec) {
+    const std::string why = ec.message();
+    fs::remove(tmp, ec);
+    throw Error(target.string() + ": cannot rename the written file (" + why + ")");
+  }
 }
 
 cv::Mat depthToPng(const DepthImage& depth) {

@@ -7,6 +7,7 @@
 
 #include "app/command_registry.h"
 #include "core/error.h"
+#include "io/image_io.h"
 #include "io/mesh_io.h"
 #include "vdb/mesh_ops.h"
 #include "vdb/mesher.h"
@@ -58,9 +59,8 @@ void exportBlender(const Scene& scene, const ExportOptions& o) {
   std::printf("wrote volume.vdb: density + color grids\n");
   manifest += "\n  ],\n  \"volume\": \"volume.vdb\",\n  \"voxel_size_m\": " + std::to_string(scene.meta.voxel_size_m) +
               "\n}\n";
-  const fs::path tmp = fs::path(o.output) / ".scene.json.tmp", target = fs::path(o.output) / "scene.json";
-  std::ofstream(tmp) << manifest;
-  fs::rename(tmp, target);
+  // Temp file + rename, with write errors reported (an unchecked ofstream renamed a short file).
+  writeFileAtomic((fs::path(o.output) / "scene.json").string(), manifest);
   std::printf("wrote scene.json; import with: blender --python samples/blender/import_scene.py -- %s\n",
               o.output.c_str());
 }
