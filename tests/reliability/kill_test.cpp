@@ -111,7 +111,7 @@ TEST(KillTest, SigkillAtRandomPointsLeavesOnlyCompleteFilesAndResumeFinishesTheS
 
   OutputSet run("kill");
   std::mt19937 rng(2024);
-  std::uniform_real_distribution<double> delay(0.0, 1.3 * run_s);
+  std::uniform_real_distribution<double> delay(0.0, 0.9 * run_s);
   int killed = 0, finished = 0, resumed = 0, max_temps = 0;
   for (int attempt = 0; attempt < 20; ++attempt) {
     const bool resume = fs::exists(run.checkpoint);
@@ -144,14 +144,14 @@ TEST(KillTest, SigkillAtRandomPointsLeavesOnlyCompleteFilesAndResumeFinishesTheS
 
 TEST(KillTest, SigintAndSigtermStopCleanlyAndResumeMatchesAnUninterruptedRun) {
   VF_REQUIRE_DATA(dataset, "tum_fr3_teddy_head60");
-  constexpr int kLong = 40;
+  constexpr int kLong = 24;
   OutputSet reference("signal_reference");
   ASSERT_EQ(waitFor(spawn(reference.args(dataset, kLong, ""))), 0);
   for (int signal : {SIGINT, SIGTERM}) {
     SCOPED_TRACE(signal == SIGINT ? "SIGINT" : "SIGTERM");
     OutputSet run(signal == SIGINT ? "sigint" : "sigterm");
     const pid_t pid = spawn(run.args(dataset, kLong, ""));
-    std::this_thread::sleep_for(std::chrono::milliseconds(600));
+    std::this_thread::sleep_for(std::chrono::milliseconds(400));
     kill(pid, signal);
     ASSERT_EQ(waitFor(pid), 128 + signal);
     EXPECT_EQ(checkFolder(run, kLong), 0);
