@@ -148,6 +148,8 @@ struct RaycastKernel {
     // evaluated once a sign change is bracketed.
     float prev_t = 0.f;
     bool have_prev = false;
+    int current_brick = -1;
+    bool current_allocated = false;
     while (t < t_end) {
       const Vec3f g = o + d * t;
       const int ix = int(floorf(g.x + 0.5f)), iy = int(floorf(g.y + 0.5f)), iz = int(floorf(g.z + 0.5f));
@@ -157,7 +159,12 @@ struct RaycastKernel {
         continue;
       }
       const int bx = ix >> 3, by = iy >> 3, bz = iz >> 3;
-      if (volume.brick_stamp[volume.brickIndex(bx, by, bz)] == 0) {
+      const int brick = volume.brickIndex(bx, by, bz);
+      if (brick != current_brick) {  // look a brick up once, not at every step inside it
+        current_brick = brick;
+        current_allocated = volume.brick_stamp[brick] != 0;
+      }
+      if (!current_allocated) {
         // Never advance less than a regular step: a ray grazing a brick face would otherwise
         // creep along it in tiny increments.
         const float t_exit = brickExit(o, d, bx, by, bz);
