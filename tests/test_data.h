@@ -4,7 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <functional>
 #include <string>
+
+#include "core/error.h"
 
 namespace vf::test {
 
@@ -18,6 +21,16 @@ inline std::string dataPath(const std::string& relative) {
   ASSERT_TRUE(std::filesystem::exists(var))                                             \
       << "test data not found: " << var                                                 \
       << " (the shared data folder must sit beside the project as ../shared/data)"
+
+// The message of the vf::Error that f throws, or "(no error)" when it throws none.
+inline std::string errorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
 
 inline std::string tempDir(const std::string& name) {
   auto dir = std::filesystem::temp_directory_path() / ("vdbfuse_test_" + name);

@@ -31,19 +31,6 @@ VF_HD bool cellCorners(const VolumeView& volume, Vec3f g, float corners[8], Vec3
   return true;
 }
 
-// Trilinear TSDF at continuous voxel coordinate g (integers are voxel centres), normalised to
-// [-1, 1]; false where any corner is unobserved or outside.
-VF_HD bool sampleTsdf(const VolumeView& volume, Vec3f g, float& out) {
-  float c[8];
-  Vec3f f;
-  if (!cellCorners(volume, g, c, f)) return false;
-  const float c00 = c[0] + f.x * (c[1] - c[0]), c10 = c[2] + f.x * (c[3] - c[2]);
-  const float c01 = c[4] + f.x * (c[5] - c[4]), c11 = c[6] + f.x * (c[7] - c[6]);
-  const float c0 = c00 + f.y * (c10 - c00), c1 = c01 + f.y * (c11 - c01);
-  out = c0 + f.z * (c1 - c0);
-  return true;
-}
-
 // The trilinear value and its analytic gradient (per voxel) from the same 8 corners.
 VF_HD bool sampleTsdfGradient(const VolumeView& volume, Vec3f g, float& out, Vec3f& gradient) {
   float c[8];
@@ -59,17 +46,13 @@ VF_HD bool sampleTsdfGradient(const VolumeView& volume, Vec3f g, float& out, Vec
   return true;
 }
 
-// Outward surface normal from central differences of the interpolated TSDF, world axes.
-VF_HD bool tsdfNormal(const VolumeView& volume, Vec3f g, Vec3f& normal) {
-  float xp, xm, yp, ym, zp, zm;
-  if (!sampleTsdf(volume, {g.x + 1.f, g.y, g.z}, xp) || !sampleTsdf(volume, {g.x - 1.f, g.y, g.z}, xm) ||
-      !sampleTsdf(volume, {g.x, g.y + 1.f, g.z}, yp) || !sampleTsdf(volume, {g.x, g.y - 1.f, g.z}, ym) ||
-      !sampleTsdf(volume, {g.x, g.y, g.z + 1.f}, zp) || !sampleTsdf(volume, {g.x, g.y, g.z - 1.f}, zm))
-    return false;
-  const Vec3f grad{xp - xm, yp - ym, zp - zm};
-  const float n = norm(grad);
-  if (!(n > 1e-6f)) return false;
-  normal = grad * (1.f / n);
+// Trilinear TSDF at continuous voxel coordinate g (integers are voxel centres), normalised to
+// [-1, 1]; false where any corner is unobserved or outside.
+VF_HD bool sampleTsdf(const VolumeView& volume, Vec3f g, float& out) {
+  float value;
+  Vec3f unused_gradient;
+  if (!sampleTsdfGradient(volume, g, value, unused_gradient)) return false;
+  out = value;
   return true;
 }
 

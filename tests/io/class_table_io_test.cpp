@@ -10,14 +10,7 @@
 namespace vf {
 namespace {
 
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
+using test::errorOf;
 
 
 TEST(ClassTableIo, ListForm) {

@@ -15,16 +15,9 @@
 namespace vf {
 namespace {
 
-namespace fs = std::filesystem;
+using test::errorOf;
 
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
+namespace fs = std::filesystem;
 
 // A crafted TUM folder: depth frames at `depth_t`, colour frames at `rgb_t`, images w x h.
 struct CraftedTum {

@@ -18,16 +18,9 @@
 namespace vf {
 namespace {
 
-constexpr double kFx = 717.0636596679688, kCx = 359.244873046875, kCy = 485.18304443359375;
+using test::errorOf;
 
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
+constexpr double kFx = 717.0636596679688, kCx = 359.244873046875, kCy = 485.18304443359375;
 
 float medianValid(const DepthImage& d, int* valid = nullptr) {
   std::vector<float> v;

@@ -11,14 +11,7 @@
 namespace vf {
 namespace {
 
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::errorOf;
 
 TEST(ZipArchive, ListsAndReadsTheSharedCapture) {
   VF_REQUIRE_DATA(r3d, "record3d_dance_head200.r3d");
