@@ -55,6 +55,8 @@ void RaycastParams::validate() const {
           "must be in (0.05, 4]");
   require(step_fraction > 0 && step_fraction <= 1, "raycast step_fraction", step_fraction,
           "must be in (0, 1]");
+  require(prediction_level >= 0 && prediction_level <= 2, "raycast prediction_level", prediction_level,
+          "must be 0, 1 or 2");
 }
 
 void PipelineParams::validate() const {

@@ -58,6 +58,11 @@ struct IntegrationParams {
 struct RaycastParams {
   float min_step_vox = 0.8f;  // smallest march step in voxels
   float step_fraction = 0.8f; // step = fraction of the sampled distance (the TSDF bounds it)
+  // Pyramid level the tracking prediction is raycast at (0 = full resolution, as KinectFusion).
+  // Half resolution tracks as accurately (point-to-plane associates to the model's planes, and
+  // the photometric term samples every 2nd model pixel anyway) at a quarter of the rays:
+  // fr1_xyz ATE 1.033 -> 1.032 cm, raycast 129 -> 23 ms. Renders are always full resolution.
+  int prediction_level = 1;
   void validate() const;
 };
 

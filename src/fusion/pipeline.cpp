@@ -35,7 +35,6 @@ struct Pipeline::Buffers {
   Buffer<int> allocated_list;    // bricks touched by any frame, in order of first touch
   Buffer<int> allocated_count;
   Buffer<float> range_min, range_max;  // per-tile ray depth bounds
-  int tiles_x = 0, tiles_y = 0;
   // Volume arrays when they live on the GPU (the CPU backend uses host_volume_ directly).
   Buffer<TsdfVoxel> tsdf;
   Buffer<Rgb8> voxel_color;
@@ -119,10 +118,10 @@ Pipeline::Pipeline(const PipelineParams& params, const Intrinsics& depth_intrins
   b.brick_count.allocate(d, 1);
   b.allocated_list.allocate(d, size_t(volume_.brickCount()));
   b.allocated_count.allocate(d, 1);
-  b.tiles_x = (w + kRangeTilePx - 1) / kRangeTilePx;
-  b.tiles_y = (h + kRangeTilePx - 1) / kRangeTilePx;
-  b.range_min.allocate(d, size_t(b.tiles_x) * b.tiles_y);
-  b.range_max.allocate(d, size_t(b.tiles_x) * b.tiles_y);
+  const size_t full_resolution_tiles =
+      size_t((w + kRangeTilePx - 1) / kRangeTilePx) * size_t((h + kRangeTilePx - 1) / kRangeTilePx);
+  b.range_min.allocate(d, full_resolution_tiles);
+  b.range_max.allocate(d, full_resolution_tiles);
 }
 
 Pipeline::~Pipeline() = default;
@@ -206,13 +205,16 @@ FrameResult Pipeline::track(const Pose& initial_guess) {
   FrameResult result;
   Pose T = initial_guess;
   const Rigid3f T_model_world = toRigid3f(T_world_model_.inverse());
+  // The prediction exists from params_.raycast.prediction_level down; finer measured levels
+  // associate against it (projective association only needs the model's camera).
+  auto modelLevel = [&](int l) { return std::max(l, params_.raycast.prediction_level); };
   auto icpAtLevel = [&](int l) {
     IcpKernel icp;
     icp.vertex_cam = constView(b.vertex[l]);
     icp.normal_cam = constView(b.normal[l]);
-    icp.model_vertex = constView(b.model_vertex[l]);
-    icp.model_normal = constView(b.model_normal[l]);
-    icp.model_intrinsics = intrinsics_.atLevel(l);
+    icp.model_vertex = constView(b.model_vertex[modelLevel(l)]);
+    icp.model_normal = constView(b.model_normal[modelLevel(l)]);
+    icp.model_intrinsics = intrinsics_.atLevel(modelLevel(l));
     icp.T_model_world = T_model_world;
     icp.max_distance_m = p.max_distance_m;
     icp.min_normal_cos = std::cos(p.max_normal_angle_deg * float(M_PI) / 180.f);
@@ -228,15 +230,15 @@ FrameResult Pipeline::track(const Pose& initial_guess) {
     PhotometricKernel photo;
     const bool use_photometric = photometricActive() && l >= p.photometric_finest_level;
     if (use_photometric) {
-      photo.model_vertex = constView(b.model_vertex[l]);
-      photo.model_normal = constView(b.model_normal[l]);
-      photo.model_intensity = constView(b.model_intensity[l]);
+      photo.model_vertex = constView(b.model_vertex[modelLevel(l)]);
+      photo.model_normal = constView(b.model_normal[modelLevel(l)]);
+      photo.model_intensity = constView(b.model_intensity[modelLevel(l)]);
       photo.intensity = constView(b.intensity[l]);
       photo.depth = constView(b.depth[l]);
       photo.intrinsics = intrinsics_.atLevel(l);
       photo.weight = p.photometric_weight;
       photo.huber = p.photometric_huber;
-      photo.stride_px = l == 0 ? p.photometric_stride_px : 1;
+      photo.stride_px = modelLevel(l) == 0 ? p.photometric_stride_px : 1;
     }
     for (int it = 0; it < p.iterations[l]; ++it) {
       icp.T_world_cam = toRigid3f(T);
@@ -338,44 +340,50 @@ void Pipeline::integrate() {
   parallelFor(device_, brick_count * IntegrateKernel::kRowsPerBrick, kernel);
 }
 
-void Pipeline::raycast(const Pose& T_world_cam, bool with_color) {
+void Pipeline::raycast(const Pose& T_world_cam, bool with_color, int level) {
   Buffers& b = *buffers_;
-  const int tiles = b.tiles_x * b.tiles_y;
-  parallelFor(device_, tiles, ClearRangeKernel{b.range_min.data(), b.range_max.data()});
+  const Intrinsics camera = intrinsics_.atLevel(level);
+  const int tiles_x = (camera.width + kRangeTilePx - 1) / kRangeTilePx;
+  const int tiles_y = (camera.height + kRangeTilePx - 1) / kRangeTilePx;
+  parallelFor(device_, tiles_x * tiles_y, ClearRangeKernel{b.range_min.data(), b.range_max.data()});
   BrickRangeKernel range;
   range.volume = volume_;
   range.bricks = b.allocated_list.data();
-  range.intrinsics = intrinsics_;
+  range.intrinsics = camera;
   range.T_cam_world = toRigid3f(T_world_cam.inverse());
   range.near_m = params_.measurement.min_depth_m;
   range.range_min = b.range_min.data();
   range.range_max = b.range_max.data();
-  range.tiles_x = b.tiles_x;
-  range.tiles_y = b.tiles_y;
+  range.tiles_x = tiles_x;
+  range.tiles_y = tiles_y;
   parallelFor(device_, allocated_bricks_, range);
 
+  // The colour buffer is allocated at full size; a coarser raycast uses its first pixels.
+  const ImageView<Rgb8> color{b.model_color.buffer.data(), camera.width, camera.height};
   RaycastKernel ray;
   ray.volume = volume_;
-  ray.intrinsics = intrinsics_;
+  ray.intrinsics = camera;
   ray.T_world_cam = toRigid3f(T_world_cam);
   ray.near_m = params_.measurement.min_depth_m;
   ray.far_m = params_.measurement.max_depth_m + params_.volume.truncation_m;
   ray.min_step_vox = params_.raycast.min_step_vox;
   ray.step_fraction = params_.raycast.step_fraction;
-  ray.vertex = b.model_vertex[0].view();
-  ray.normal = b.model_normal[0].view();
-  if (with_color) ray.color = b.model_color.view();
+  ray.vertex = b.model_vertex[level].view();
+  ray.normal = b.model_normal[level].view();
+  if (with_color) ray.color = color;
   ray.range_min = b.range_min.data();
   ray.range_max = b.range_max.data();
-  ray.tiles_x = b.tiles_x;
-  parallelFor(device_, b.model_vertex[0].size(), ray);
+  ray.tiles_x = tiles_x;
+  parallelFor(device_, camera.width * camera.height, ray);
   if (with_color) {
-    parallelFor(device_, b.model_color.size(), IntensityKernel{constView(b.model_color), b.model_intensity[0].view()});
-    for (int l = 1; l < kLevels; ++l)
+    parallelFor(device_, camera.width * camera.height,
+                IntensityKernel{ImageView<const Rgb8>{color.data, color.width, color.height},
+                                b.model_intensity[level].view()});
+    for (int l = level + 1; l < kLevels; ++l)
       parallelFor(device_, b.model_intensity[l].size(),
                   DownsampleModelIntensityKernel{constView(b.model_intensity[l - 1]), b.model_intensity[l].view()});
   }
-  for (int l = 1; l < kLevels; ++l)
+  for (int l = level + 1; l < kLevels; ++l)
     parallelFor(device_, b.model_vertex[l].size(),
                 DownsamplePredictionKernel{constView(b.model_vertex[l - 1]), constView(b.model_normal[l - 1]),
                                            b.model_vertex[l].view(), b.model_normal[l].view()});
@@ -428,7 +436,7 @@ FrameResult Pipeline::processFrame(const RgbdFrame& frame, PoseSource pose_sourc
 }
 
 void Pipeline::raycastForTracking() {
-  raycast(T_world_cam_, params_.icp.photometric_weight > 0.f);
+  raycast(T_world_cam_, params_.icp.photometric_weight > 0.f, params_.raycast.prediction_level);
   model_has_intensity_ = params_.icp.photometric_weight > 0.f;
   T_world_model_ = T_world_cam_;
   has_prediction_ = true;
@@ -438,7 +446,7 @@ Prediction Pipeline::predict(bool with_color) { return predictFrom(T_world_cam_,
 
 Prediction Pipeline::predictFrom(const Pose& T_world_cam, bool with_color) {
   Buffers& b = *buffers_;
-  raycast(T_world_cam, with_color);
+  raycast(T_world_cam, with_color, 0);
   Prediction out;
   const int w = intrinsics_.width, h = intrinsics_.height;
   out.vertex_world.resize(w, h);
@@ -451,7 +459,7 @@ Prediction Pipeline::predictFrom(const Pose& T_world_cam, bool with_color) {
   }
   // Restore the tracking prediction if a different pose was rendered.
   if (has_prediction_ && !(T_world_cam.matrix() == T_world_model_.matrix()))
-    raycast(T_world_model_, model_has_intensity_);
+    raycast(T_world_model_, model_has_intensity_, params_.raycast.prediction_level);
   return out;
 }
 

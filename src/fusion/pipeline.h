@@ -75,7 +75,7 @@ class Pipeline {
   void measure(const RgbdFrame& frame);
   FrameResult track(const Pose& initial_guess);
   void integrate();
-  void raycast(const Pose& T_world_cam, bool with_color);
+  void raycast(const Pose& T_world_cam, bool with_color, int level);
   // The model prediction tracking uses: a raycast from T_world_cam_, which becomes T_world_model_.
   void raycastForTracking();
 
