@@ -24,7 +24,16 @@ struct IcpKernel {
   float min_normal_cos = 0.866f;
   float huber_m = 0.02f;
 
-  VF_HD bool operator()(int i, float* row) const {
+  int stride_px = 1;  // use every stride-th measured pixel in x and y
+
+  // Number of work items for the reduction.
+  VF_HD int count() const {
+    return ((vertex_cam.width + stride_px - 1) / stride_px) * ((vertex_cam.height + stride_px - 1) / stride_px);
+  }
+
+  VF_HD bool operator()(int item, float* row) const {
+    const int cols = (vertex_cam.width + stride_px - 1) / stride_px;
+    const int i = (item / cols) * stride_px * vertex_cam.width + (item % cols) * stride_px;
     const Vec3f v_cam = vertex_cam[i];
     if (v_cam.z <= 0.f) return false;
     const Vec3f n_cam = normal_cam[i];

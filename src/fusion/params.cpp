@@ -21,8 +21,8 @@ void require(bool ok, const char* field, T value, const char* expectation) {
 void MeasurementParams::validate() const {
   require(min_depth_m >= 0, "min_depth_m", min_depth_m, "must be >= 0");
   require(max_depth_m > min_depth_m, "max_depth_m", max_depth_m, "must exceed min_depth_m");
-  require(bilateral_radius_px >= 0 && bilateral_radius_px <= 7, "bilateral_radius_px",
-          bilateral_radius_px, "must be in [0, 7]");
+  require(bilateral_radius_px >= 0 && bilateral_radius_px <= 3, "bilateral_radius_px",
+          bilateral_radius_px, "must be in [0, 3]");
   require(bilateral_sigma_px > 0, "bilateral_sigma_px", bilateral_sigma_px, "must be > 0");
   require(bilateral_sigma_m > 0, "bilateral_sigma_m", bilateral_sigma_m, "must be > 0");
   require(pyramid_depth_jump_m > 0, "pyramid_depth_jump_m", pyramid_depth_jump_m, "must be > 0");
@@ -31,6 +31,8 @@ void MeasurementParams::validate() const {
 void IcpParams::validate() const {
   for (int it : iterations) require(it >= 0 && it <= 100, "icp iterations", it, "must be in [0, 100]");
   require(iterations[0] + iterations[1] + iterations[2] > 0, "icp iterations", 0, "need at least one");
+  require(finest_stride_px >= 1 && finest_stride_px <= 8, "icp finest_stride_px", finest_stride_px,
+          "must be in [1, 8]");
   require(max_distance_m > 0, "icp max_distance_m", max_distance_m, "must be > 0");
   require(max_normal_angle_deg > 0 && max_normal_angle_deg <= 90, "icp max_normal_angle_deg",
           max_normal_angle_deg, "must be in (0, 90]");

@@ -23,6 +23,7 @@ struct MeasurementParams {
 struct IcpParams {
   // Iterations per pyramid level, finest first (KinectFusion: 10, 5, 4 coarse to fine).
   std::array<int, 3> iterations{3, 5, 10};
+  int finest_stride_px = 2;           // at level 0, every stride-th measured pixel in x and y
   float max_distance_m = 0.10f;       // correspondence distance rejection
   float max_normal_angle_deg = 30.f;  // correspondence normal-angle rejection
   float huber_m = 0.02f;              // robust weight threshold on point-to-plane residuals

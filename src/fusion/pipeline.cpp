@@ -178,14 +178,10 @@ void Pipeline::measure(const RgbdFrame& frame) {
                   DownsampleIntensityKernel{constView(b.intensity[l - 1]), b.intensity[l].view()});
   }
   const MeasurementParams& m = params_.measurement;
-  BilateralFilterKernel bilateral;
+  BilateralFilterKernel bilateral = BilateralFilterKernel::make(
+      m.bilateral_radius_px, m.bilateral_sigma_px, m.bilateral_sigma_m, m.min_depth_m, m.max_depth_m);
   bilateral.depth_in = depth_for_geometry;
   bilateral.depth_out = b.depth[0].view();
-  bilateral.radius = m.bilateral_radius_px;
-  bilateral.inv_two_sigma_px2 = 1.f / (2.f * m.bilateral_sigma_px * m.bilateral_sigma_px);
-  bilateral.inv_two_sigma_m2 = 1.f / (2.f * m.bilateral_sigma_m * m.bilateral_sigma_m);
-  bilateral.min_depth_m = m.min_depth_m;
-  bilateral.max_depth_m = m.max_depth_m;
   parallelFor(device_, w * h, bilateral);
   for (int l = 1; l < kLevels; ++l)
     parallelFor(device_, b.depth[l].size(),
@@ -219,6 +215,7 @@ FrameResult Pipeline::track(const Pose& initial_guess) {
     icp.max_distance_m = p.max_distance_m;
     icp.min_normal_cos = std::cos(p.max_normal_angle_deg * float(M_PI) / 180.f);
     icp.huber_m = p.huber_m;
+    icp.stride_px = l == 0 ? p.finest_stride_px : 1;
     return icp;
   };
   // Geometric sums of the last finest-level iteration: the tracking-loss statistics. They
@@ -242,7 +239,7 @@ FrameResult Pipeline::track(const Pose& initial_guess) {
     }
     for (int it = 0; it < p.iterations[l]; ++it) {
       icp.T_world_cam = toRigid3f(T);
-      sums = parallelReduce<kIcpRowSize>(device_, b.vertex[l].size(), icp);
+      sums = parallelReduce<kIcpRowSize>(device_, icp.count(), icp);
       have_finest_sums = l == 0;
       if (sums[28] < 6) break;
       std::array<double, kIcpRowSize> system = sums;
@@ -267,7 +264,7 @@ FrameResult Pipeline::track(const Pose& initial_guess) {
   if (!have_finest_sums) {  // no finest-level iteration ran: measure the final pose there
     IcpKernel icp = icpAtLevel(0);
     icp.T_world_cam = toRigid3f(T);
-    sums = parallelReduce<kIcpRowSize>(device_, b.vertex[0].size(), icp);
+    sums = parallelReduce<kIcpRowSize>(device_, icp.count(), icp);
   }
   result.icp_inliers = int(sums[28]);
   result.icp_rmse_m = sums[28] > 0 ? float(std::sqrt(sums[27] / sums[28])) : 0.f;
