@@ -485,7 +485,8 @@ void setup(CLI::App& root) {
   CLI::App* cmd = root.add_subcommand("reconstruct", "Fuse an RGB-D sequence into a scene (.vdb)");
   cmd->add_option("dataset", o->dataset, "TUM folder, Record3D .r3d file or Record3D export folder")->required();
   cmd->add_option("-o,--output", o->output, "Scene file to write (.vdb)");
-  cmd->add_option("--trajectory", o->trajectory, "Write the camera trajectory (TUM format)");
+  cmd->add_option("--trajectory", o->trajectory,
+                  "Camera trajectory to write (TUM format; default: the scene's path with .txt)");
   cmd->add_option("--volume-size", o->volume_size, "Voxels: N or X,Y,Z (multiples of 8)")->capture_default_str();
   cmd->add_option("--voxel-size-m", o->voxel_size_m, "Voxel edge in metres (default: 3 m / largest dimension)");
   cmd->add_option("--truncation-m", o->truncation_m, "TSDF truncation in metres (default: 5 voxels)");
@@ -520,7 +521,14 @@ void setup(CLI::App& root) {
                   "SIGINT/SIGTERM always finish the frame and write them");
   cmd->add_flag("--resume", o->resume,
                 "Continue an interrupted run from OUTPUT.checkpoint (same dataset and options)");
-  cmd->callback([o] { runReconstruct(*o); });
+  cmd->callback([o] {
+    // DESIGN.md: the trajectory travels beside the scene (scene.vdb -> scene.txt), where the
+    // viewer and the editor look for it.
+    ReconstructOptions options = *o;
+    if (options.trajectory.empty() && !options.output.empty())
+      options.trajectory = std::filesystem::path(options.output).replace_extension(".txt").string();
+    runReconstruct(options);
+  });
 }
 
 }  // namespace
