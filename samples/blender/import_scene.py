@@ -19,10 +19,14 @@ def script_args():
 
 
 def import_ply(path):
-    # Blender 3.6+/4.x: wm.ply_import; older releases: the import_mesh.ply add-on.
-    if hasattr(bpy.ops.wm, "ply_import"):
+    # Blender 3.6+/4.x: the built-in wm.ply_import; older releases: the import_mesh.ply add-on.
+    # (hasattr cannot tell: bpy.ops answers every attribute with a lazy wrapper.)
+    if bpy.app.version >= (3, 6, 0):
         bpy.ops.wm.ply_import(filepath=path)
     else:
+        if not hasattr(bpy.types, "IMPORT_MESH_OT_ply"):
+            import addon_utils
+            addon_utils.enable("io_mesh_ply", default_set=True)
         bpy.ops.import_mesh.ply(filepath=path)
     return bpy.context.selected_objects[0]
 
@@ -81,6 +85,7 @@ def main():
         collection.objects.link(obj)
         obj.data.materials.clear()
         obj.data.materials.append(vertex_color_material(entry["name"], color_attribute_name(obj.data)))
+        print("vdbfuse: mesh %s vertices %d faces %d" % (obj.name, len(obj.data.vertices), len(obj.data.polygons)))
         meshes += 1
 
     volumes = 0
@@ -90,6 +95,8 @@ def main():
         obj = bpy.data.objects.new("scene_volume", data)
         collection.objects.link(obj)
         data.materials.append(volume_material("scene_volume"))
+        data.grids.load()
+        print("vdbfuse: volume grids %s" % ",".join(sorted(g.name for g in data.grids)))
         volumes += 1
 
     print("vdbfuse: imported %d meshes and %d volume(s)" % (meshes, volumes))

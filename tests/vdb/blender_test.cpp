@@ -65,6 +65,16 @@ TEST(BlenderExport, ImportScriptLoadsTheFolder) {
                               status);
   EXPECT_EQ(status, 0) << out;
   EXPECT_NE(out.find("vdbfuse: imported 2 meshes and 1 volume(s)"), std::string::npos) << out;
+  // Blender holds exactly the exported vertices and faces, and both grids of the volume.
+  const std::pair<std::string, std::string> objects[] = {{"chair", "chair"}, {"dining table", "dining_table"}};
+  for (const auto& [object, file] : objects) {
+    const TriangleMesh exported = readPly(dir + "/" + file + ".ply");
+    const std::string line = "vdbfuse: mesh " + object + " vertices " +
+                             std::to_string(exported.vertexCount()) + " faces " +
+                             std::to_string(exported.triangleCount());
+    EXPECT_NE(out.find(line), std::string::npos) << "expected '" << line << "' in\n" << out;
+  }
+  EXPECT_NE(out.find("vdbfuse: volume grids color,density"), std::string::npos) << out;
   EXPECT_TRUE(fs::exists(dir + "/scene.blend")) << out;
 }
 
