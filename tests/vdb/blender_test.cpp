@@ -78,5 +78,34 @@ TEST(BlenderExport, ImportScriptLoadsTheFolder) {
   EXPECT_TRUE(fs::exists(dir + "/scene.blend")) << out;
 }
 
+// Every mesh format the exporter writes arrives in Blender with its faces (Blender merges the
+// vertices an OBJ/GLB writer repeats at class seams, so vertices may only shrink there).
+TEST(BlenderExport, PlyObjAndGlbImportWithTheirFaces) {
+  int status = 0;
+  run("command -v blender", status);
+  if (status != 0) GTEST_SKIP() << "blender is not installed: the imports were not run";
+  TriangleMesh full;
+  const std::string dir = exportSphere("blender_formats", &full);
+  ClassTable classes;
+  classes.classes = {{test::kClassLeft, "chair", {255, 0, 0, 255}}, {test::kClassRight, "dining table", {0, 0, 255, 255}}};
+  MeshWriteOptions options;
+  options.classes = &classes;
+  for (const std::string ext : {"ply", "obj", "glb"}) {
+    const std::string path = dir + "/full." + ext;
+    writeMesh(full, path, options);
+    const std::string out = run("blender -b --factory-startup --python " + std::string(VDBFUSE_SOURCE_DIR) +
+                                    "/samples/blender/count_import.py -- " + path, status);
+    EXPECT_EQ(status, 0) << out;
+    unsigned objects = 0, vertices = 0, faces = 0;
+    const size_t at = out.find("vdbfuse: imported ");
+    ASSERT_NE(at, std::string::npos) << ext << ":\n" << out;
+    ASSERT_EQ(std::sscanf(out.c_str() + at, "vdbfuse: imported %u objects %u vertices %u faces", &objects, &vertices, &faces), 3);
+    EXPECT_EQ(faces, full.triangleCount()) << ext;
+    EXPECT_GE(objects, 1u) << ext;
+    if (ext == "ply") EXPECT_EQ(vertices, full.vertexCount());
+    else EXPECT_LE(vertices, full.vertexCount() * 11 / 10) << ext;
+  }
+}
+
 }  // namespace
 }  // namespace vf
