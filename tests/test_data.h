@@ -3,6 +3,7 @@
 // fails (never skips) with the path it looked for, so a missing ../shared is loud in CI.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -30,6 +31,16 @@ inline std::string errorOf(const std::function<void()>& f) {
     return e.what();
   }
   return "(no error)";
+}
+
+// Runs a shell command; returns its stdout and stderr together and sets status (pclose's).
+inline std::string runCommand(const std::string& command, int& status) {
+  std::string out;
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  char buf[4096];
+  while (pipe && fgets(buf, sizeof buf, pipe)) out += buf;
+  status = pipe ? pclose(pipe) : -1;
+  return out;
 }
 
 inline std::string tempDir(const std::string& name) {

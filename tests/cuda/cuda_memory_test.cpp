@@ -3,6 +3,8 @@
 // machine without a GPU says why instead of crashing.
 #include <gtest/gtest.h>
 
+#include "cuda/require_gpu.h"
+
 #include <numeric>
 #include <string>
 #include <vector>
@@ -14,11 +16,6 @@
 
 namespace vf {
 namespace {
-
-#define VF_REQUIRE_GPU()                                                              \
-  do {                                                                                \
-    if (cudaDeviceCount() == 0) GTEST_SKIP() << "no CUDA GPU: " << cuda::lastErrorDescription(); \
-  } while (0)
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 

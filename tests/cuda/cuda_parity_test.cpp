@@ -9,6 +9,8 @@
 // and on the share of agreeing voxels; runs with given poses are compared strictly.
 #include <gtest/gtest.h>
 
+#include "cuda/require_gpu.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -30,11 +32,6 @@
 
 namespace vf {
 namespace {
-
-#define VF_REQUIRE_GPU()                                                                        \
-  do {                                                                                          \
-    if (cudaDeviceCount() == 0) GTEST_SKIP() << "no CUDA GPU: " << cuda::lastErrorDescription(); \
-  } while (0)
 
 constexpr int kMaxTsdfUnits = 3;          // 1e-4 of the truncation in int16 units of kTsdfScale
 constexpr double kMaxPoseDiffM = 1e-4;    // 0.1 mm

@@ -14,14 +14,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string run(const std::string& command, int& status) {
-  std::string out;
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  char buf[4096];
-  while (pipe && fgets(buf, sizeof buf, pipe)) out += buf;
-  status = pipe ? pclose(pipe) : -1;
-  return out;
-}
+std::string run(const std::string& command, int& status) { return test::runCommand(command, status); }
 
 const std::string kSmallVolume = " --volume-size 192 --voxel-size-m 0.02 -q -f";
 

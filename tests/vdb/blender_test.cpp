@@ -17,14 +17,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string run(const std::string& command, int& status) {
-  std::string out;
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  char buf[4096];
-  while (pipe && fgets(buf, sizeof buf, pipe)) out += buf;
-  status = pipe ? pclose(pipe) : -1;
-  return out;
-}
+std::string run(const std::string& command, int& status) { return test::runCommand(command, status); }
 
 std::string exportSphere(const std::string& name, TriangleMesh* full) {
   DenseVolume volume(test::sphereSpec(), true);
