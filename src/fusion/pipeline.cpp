@@ -464,18 +464,20 @@ const DenseVolume& Pipeline::hostVolume() {
   if (device_ == Device::Cuda) {
     Buffers& b = *buffers_;
     const VolumeView& host = host_volume_.view();
-    const size_t n = params_.volume.voxelCount();
     b.brick_stamp.download(host.brick_stamp, size_t(host.brickCount()));
-    // Copy only the observed bricks: the rest is zero on both sides.
-    std::vector<int> bricks = host_volume_.observedBricks();
-    for (int brick : bricks) {
-      const size_t first = size_t(brick) * kBrickVoxels;
-      cuda::copyToHost(host.tsdf + first, b.tsdf.data() + first, kBrickVoxels * sizeof(TsdfVoxel));
-      cuda::copyToHost(host.color + first, b.voxel_color.data() + first, kBrickVoxels * sizeof(Rgb8));
+    // Copy only the observed bricks (the rest is zero on both sides), one copy per run of
+    // consecutive bricks rather than one per brick.
+    const std::vector<int> bricks = host_volume_.observedBricks();
+    for (size_t i = 0; i < bricks.size();) {
+      size_t j = i + 1;
+      while (j < bricks.size() && bricks[j] == bricks[j - 1] + 1) ++j;
+      const size_t first = size_t(bricks[i]) * kBrickVoxels, count = (j - i) * kBrickVoxels;
+      cuda::copyToHost(host.tsdf + first, b.tsdf.data() + first, count * sizeof(TsdfVoxel));
+      cuda::copyToHost(host.color + first, b.voxel_color.data() + first, count * sizeof(Rgb8));
       if (host.class_vote)
-        cuda::copyToHost(host.class_vote + first, b.class_vote.data() + first, kBrickVoxels * sizeof(uint32_t));
+        cuda::copyToHost(host.class_vote + first, b.class_vote.data() + first, count * sizeof(uint32_t));
+      i = j;
     }
-    (void)n;
   }
   return host_volume_;
 }
