@@ -89,23 +89,31 @@ struct ClassScore {
   double fraction() const { return surface ? double(right) / double(surface) : 0; }
 };
 
-// Surface voxels (|sdf| < one voxel, weight > 0) whose class is that of the nearest primitive.
-ClassScore scoreClasses(const DenseVolume& volume, const test::SyntheticScene& s) {
+// Calls f(index, centre) for every surface voxel: observed (weight > 0) and |sdf| < one voxel.
+template <class F>
+void forEachSurfaceVoxel(const DenseVolume& volume, F f) {
   const VolumeView& v = volume.view();
-  ClassScore score;
   for (int brick : volume.observedBricks())
     for (int i = 0; i < kBrickVoxels; ++i) {
       const size_t index = size_t(brick) * kBrickVoxels + size_t(i);
       if (v.weightAt(index) == 0 || std::abs(v.sdfMetres(index)) >= v.voxel_size_m) continue;
       const Vec3i c = v.voxelCoord(index);
       const Vec3f w = v.voxelCenter(c.x, c.y, c.z);
-      const Eigen::Vector3d p(w.x, w.y, w.z);
-      const uint16_t truth = sphereDistance(s, p) < planeDistance(s, p) ? kBall : kStatic;
-      const uint32_t vote = v.class_vote[index];
-      ++score.surface;
-      // The scene's class grid holds voteClass whatever the confidence; 0 = never voted.
-      if (vote != 0 && voteClass(vote) == truth) ++score.right;
+      f(index, Eigen::Vector3d(w.x, w.y, w.z));
     }
+}
+
+// Surface voxels whose class is that of the nearest primitive.
+ClassScore scoreClasses(const DenseVolume& volume, const test::SyntheticScene& s) {
+  const VolumeView& v = volume.view();
+  ClassScore score;
+  forEachSurfaceVoxel(volume, [&](size_t index, const Eigen::Vector3d& p) {
+    const uint16_t truth = sphereDistance(s, p) < planeDistance(s, p) ? kBall : kStatic;
+    const uint32_t vote = v.class_vote[index];
+    ++score.surface;
+    // The scene's class grid holds voteClass whatever the confidence; 0 = never voted.
+    if (vote != 0 && voteClass(vote) == truth) ++score.right;
+  });
   return score;
 }
 
@@ -219,18 +227,11 @@ DynamicRun fuseMovingBall(bool with_ball, bool mask_dynamic) {
   test::SyntheticScene all = wallsAndBall();
   all.spheres = positions;
   const DenseVolume& volume = pipeline.hostVolume();
-  const VolumeView& v = volume.view();
   DynamicRun run;
-  for (int brick : volume.observedBricks())
-    for (int i = 0; i < kBrickVoxels; ++i) {
-      const size_t index = size_t(brick) * kBrickVoxels + size_t(i);
-      if (v.weightAt(index) == 0 || std::abs(v.sdfMetres(index)) >= v.voxel_size_m) continue;
-      const Vec3i c = v.voxelCoord(index);
-      const Vec3f w = v.voxelCenter(c.x, c.y, c.z);
-      const Eigen::Vector3d p(w.x, w.y, w.z);
-      if (planeDistance(all, p) < 0.02) ++run.static_surface;
-      else if (!positions.empty() && sphereDistance(all, p) < 0.02) ++run.ball_surface;
-    }
+  forEachSurfaceVoxel(volume, [&](size_t, const Eigen::Vector3d& p) {
+    if (planeDistance(all, p) < 0.02) ++run.static_surface;
+    else if (!positions.empty() && sphereDistance(all, p) < 0.02) ++run.ball_surface;
+  });
   return run;
 }
 
