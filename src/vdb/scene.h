@@ -64,8 +64,9 @@ Scene sceneFromDenseVolume(const DenseVolume& volume, const SceneMetadata& meta)
 // file is left behind. Throws vf::Error naming the path.
 void writeScene(const Scene& scene, const std::string& path);
 
-// Reads a scene written by writeScene. Throws vf::Error naming the path for a missing,
-// truncated or foreign file, or one without a `tsdf` level set.
+// Reads a scene written by writeScene (or any .vdb with its grids). Throws vf::Error naming the
+// path for a missing, truncated, damaged or foreign file, or one without a `tsdf` level set; the
+// file's structure is checked (vdb/vdb_file_check.h) before libopenvdb allocates anything it states.
 Scene readScene(const std::string& path);
 
 }  // namespace vf

@@ -3,6 +3,7 @@
 #include <openvdb/openvdb.h>
 
 #include "core/math.h"
+#include "vdb/openvdb_init.h"
 #include "vdb/scene.h"
 
 namespace vf {
@@ -16,9 +17,6 @@ struct SceneGrids {
   openvdb::Int32Grid::Ptr class_id;          // class id, background kSceneUnknownClass
   openvdb::FloatGrid::Ptr class_confidence;  // vote confidence, background 0
 };
-
-// Makes sure openvdb::initialize() ran (idempotent, thread-safe).
-void ensureOpenVdbInitialized();
 
 // Deactivates the voxels active in `mask` in every grid (values back to each grid's background)
 // and prunes emptied leaves, so that all grids keep the tsdf's topology. Returns how many tsdf

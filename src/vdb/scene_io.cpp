@@ -10,6 +10,7 @@
 #include "core/version.h"
 #include "vdb/scene.h"
 #include "vdb/scene_grids.h"
+#include "vdb/vdb_file_check.h"
 
 namespace vf {
 namespace {
@@ -104,12 +105,18 @@ void writeScene(const Scene& scene, const std::string& path) {
 Scene readScene(const std::string& path) {
   ensureOpenVdbInitialized();
   if (!fs::exists(path)) throw Error(path + ": scene file does not exist");
-  openvdb::GridPtrVecPtr grids;
+  const std::vector<std::string> names = {kTsdfGridName, kWeightGridName, kColorGridName, kClassGridName,
+                                          kClassConfidenceGridName};
+  // libopenvdb allocates whatever sizes a file states; the check bounds them by the file's size.
+  checkVdbFileStructure(path, names);
+  openvdb::GridPtrVec grids;
   openvdb::MetaMap::Ptr meta;
   try {
     openvdb::io::File file(path);
-    file.open(/*delayLoad=*/false);  // read everything now: a truncated file must fail here
-    grids = file.getGrids();
+    file.open(/*delayLoad=*/false);
+    // Only the grids checked above: anything else a tool added to the file stays unread.
+    for (const std::string& name : names)
+      if (file.hasGrid(name)) grids.push_back(file.readGrid(name));
     meta = file.getMetadata();
     file.close();
   } catch (const std::exception& e) {
@@ -117,13 +124,13 @@ Scene readScene(const std::string& path) {
   }
   Scene scene;
   SceneGrids& g = scene.grids();
-  g.tsdf = findGrid<openvdb::FloatGrid>(*grids, kTsdfGridName, path, true);
+  g.tsdf = findGrid<openvdb::FloatGrid>(grids, kTsdfGridName, path, true);
   if (g.tsdf->getGridClass() != openvdb::GRID_LEVEL_SET)
     throw Error(path + ": grid 'tsdf' is not a level set");
-  g.weight = findGrid<openvdb::FloatGrid>(*grids, kWeightGridName, path, true);
-  g.color = findGrid<openvdb::Vec3SGrid>(*grids, kColorGridName, path, false);
-  g.class_id = findGrid<openvdb::Int32Grid>(*grids, kClassGridName, path, false);
-  g.class_confidence = findGrid<openvdb::FloatGrid>(*grids, kClassConfidenceGridName, path, false);
+  g.weight = findGrid<openvdb::FloatGrid>(grids, kWeightGridName, path, true);
+  g.color = findGrid<openvdb::Vec3SGrid>(grids, kColorGridName, path, false);
+  g.class_id = findGrid<openvdb::Int32Grid>(grids, kClassGridName, path, false);
+  g.class_confidence = findGrid<openvdb::FloatGrid>(grids, kClassConfidenceGridName, path, false);
 
   SceneMetadata& m = scene.meta;
   m.voxel_size_m = float(g.tsdf->voxelSize()[0]);
