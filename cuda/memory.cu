@@ -135,6 +135,13 @@ void fillZero(void* dst, size_t bytes) {
 
 void synchronize() { detail::check(cudaDeviceSynchronize(), "cudaDeviceSynchronize"); }
 
+bool memoryInfo(size_t* free_bytes, size_t* total_bytes) noexcept {
+  if (deviceCount() == 0) return false;
+  if (cudaMemGetInfo(free_bytes, total_bytes) == cudaSuccess) return true;
+  (void)cudaGetLastError();
+  return false;
+}
+
 }  // namespace vf::cuda
 
 // ---- reduction scratch ------------------------------------------------------------------------

@@ -9,6 +9,10 @@
 namespace vf::app {
 namespace {
 
+const char* const kHowToLower =
+    "lower --volume-size (memory grows with its cube) or, for the same extent, raise --voxel-size-m and lower "
+    "--volume-size together";
+
 std::string gib(uint64_t bytes) {
   char text[32];
   std::snprintf(text, sizeof text, "%.1f GiB", double(bytes) / double(uint64_t(1) << 30));
@@ -37,18 +41,22 @@ std::optional<HostMemory> readHostMemory() {
 }
 
 std::string checkVolumeFits(uint64_t needed_bytes, const HostMemory& memory, const std::string& volume_description) {
-  const std::string lower =
-      "lower --volume-size (memory grows with its cube) or, for the same extent, raise --voxel-size-m and lower "
-      "--volume-size together";
   if (needed_bytes > memory.total_bytes + memory.swap_bytes)
     throw Error("the volume (" + volume_description + ") needs up to " + gib(needed_bytes) +
                 " of host memory once every brick is observed, more than this machine's " + gib(memory.total_bytes) +
-                " RAM + " + gib(memory.swap_bytes) + " swap; " + lower);
+                " RAM + " + gib(memory.swap_bytes) + " swap; " + kHowToLower);
   if (needed_bytes > memory.available_bytes)
     return "warning: the volume (" + volume_description + ") needs up to " + gib(needed_bytes) +
            " if every brick is observed, more than the " + gib(memory.available_bytes) +
-           " available now; a scan that covers the whole volume may run out of memory (" + lower + ")";
+           " available now; a scan that covers the whole volume may run out of memory (" + kHowToLower + ")";
   return {};
+}
+
+void checkVolumeFitsGpu(uint64_t needed_bytes, const GpuMemory& gpu, const std::string& volume_description) {
+  if (needed_bytes <= gpu.free_bytes) return;
+  throw Error("the volume (" + volume_description + ") needs " + gib(needed_bytes) +
+              " of GPU memory, the GPU has " + gib(gpu.free_bytes) + " free of " + gib(gpu.total_bytes) + "; " +
+              kHowToLower + ", or run on the CPU with --device cpu (its volume costs only the bricks observed)");
 }
 
 }  // namespace vf::app

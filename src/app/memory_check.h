@@ -21,4 +21,14 @@ std::optional<HostMemory> readHostMemory();
 // it exceeds the memory available now; else an empty string.
 std::string checkVolumeFits(uint64_t needed_bytes, const HostMemory& memory, const std::string& volume_description);
 
+struct GpuMemory {
+  uint64_t free_bytes = 0;
+  uint64_t total_bytes = 0;
+};
+
+// The CUDA backend allocates the whole dense volume (and the frame buffers) when it starts, so
+// `needed_bytes` must fit in what the GPU has free now: throws vf::Error naming both sizes and the
+// options that lower the need.
+void checkVolumeFitsGpu(uint64_t needed_bytes, const GpuMemory& gpu, const std::string& volume_description);
+
 }  // namespace vf::app

@@ -316,17 +316,32 @@ void removeStaleTempFiles(const std::vector<std::string>& outputs) {
   }
 }
 
-void checkMemory(const PipelineParams& params, bool with_labels, bool quiet) {
-  const std::optional<HostMemory> memory = readHostMemory();
-  if (!memory) return;
+// Device bytes besides the volume: per brick a stamp and two list entries; per pixel the frame,
+// its three-level pyramids and the model prediction (about 100 bytes, rounded up); and room for
+// the reduction scratch and the runtime's own allocations.
+constexpr uint64_t kGpuBytesPerBrick = 12;
+constexpr uint64_t kGpuBytesPerPixel = 128;
+constexpr uint64_t kGpuHeadroomBytes = uint64_t(64) << 20;
+
+void checkMemory(const PipelineParams& params, bool with_labels, Device device, const Intrinsics& intrinsics,
+                 bool quiet) {
   const VolumeSpec& v = params.volume;
   const uint64_t bricks = uint64_t(v.dims.x / kBrickSize) * (v.dims.y / kBrickSize) * (v.dims.z / kBrickSize);
-  const uint64_t needed = uint64_t(v.voxelCount()) * DenseVolume::bytesPerVoxel(with_labels) + bricks * 4;
+  const uint64_t volume_bytes = uint64_t(v.voxelCount()) * DenseVolume::bytesPerVoxel(with_labels);
   char description[96];
   std::snprintf(description, sizeof description, "%dx%dx%d voxels%s", v.dims.x, v.dims.y, v.dims.z,
                 with_labels ? " with classes" : "");
-  const std::string warning = checkVolumeFits(needed, *memory, description);
-  if (!warning.empty() && !quiet) std::fprintf(stderr, "%s\n", warning.c_str());
+  // The host volume exists on both backends (on CUDA as the download target of the scene).
+  if (const std::optional<HostMemory> memory = readHostMemory()) {
+    const std::string warning = checkVolumeFits(volume_bytes + bricks * 4, *memory, description);
+    if (!warning.empty() && !quiet) std::fprintf(stderr, "%s\n", warning.c_str());
+  }
+  GpuMemory gpu;
+  if (resolveDevice(device) == Device::Cuda && cudaMemoryInfo(gpu.free_bytes, gpu.total_bytes)) {
+    const uint64_t pixels = uint64_t(intrinsics.width) * uint64_t(intrinsics.height);
+    checkVolumeFitsGpu(volume_bytes + bricks * kGpuBytesPerBrick + pixels * kGpuBytesPerPixel + kGpuHeadroomBytes,
+                       gpu, description);
+  }
 }
 
 void runReconstruct(const ReconstructOptions& o) {
@@ -365,7 +380,7 @@ void runReconstruct(const ReconstructOptions& o) {
   params.integration.class_vote_seed = o.class_vote_seed;
   const PoseSource pose_source = parsePoses(o.poses);
   params.volume.validate();
-  checkMemory(params, with_labels, o.quiet);
+  checkMemory(params, with_labels, parseDevice(o.device), source->depthIntrinsics(), o.quiet);
   Pipeline pipeline(params, source->depthIntrinsics(), parseDevice(o.device), with_labels);
   if (!dynamic_ids.empty()) pipeline.setDynamicClasses(dynamic_ids);
   if (!o.quiet)

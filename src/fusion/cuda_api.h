@@ -16,6 +16,8 @@ void copyToHost(void* dst, const void* src, size_t bytes);
 void copyOnDevice(void* dst, const void* src, size_t bytes);
 void fillZero(void* dst, size_t bytes);
 void synchronize();
+// Free and total memory of the current device; false where the query fails (no GPU, no driver).
+bool memoryInfo(size_t* free_bytes, size_t* total_bytes) noexcept;
 
 template <class F>
 void parallelFor(int n, const F& f);

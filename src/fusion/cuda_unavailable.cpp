@@ -20,6 +20,7 @@ void copyToHost(void*, const void*, size_t) { unavailable(); }
 void copyOnDevice(void*, const void*, size_t) { unavailable(); }
 void fillZero(void*, size_t) { unavailable(); }
 void synchronize() {}
+bool memoryInfo(size_t*, size_t*) noexcept { return false; }
 
 }  // namespace vf::cuda
 #endif

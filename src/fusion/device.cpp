@@ -36,6 +36,14 @@ int cudaDeviceCount() {
 #endif
 }
 
+bool cudaMemoryInfo(uint64_t& free_bytes, uint64_t& total_bytes) {
+  size_t free_now = 0, total = 0;
+  if (!cuda::memoryInfo(&free_now, &total)) return false;
+  free_bytes = free_now;
+  total_bytes = total;
+  return true;
+}
+
 Device resolveDevice(Device requested) {
   if (requested == Device::Cpu) return Device::Cpu;
   const int gpus = cudaDeviceCount();

@@ -42,6 +42,8 @@ TEST(CudaDiscovery, WithoutAGpuTheReasonIsReportedAndCudaRequestsFailWithAnError
     EXPECT_TRUE(contains(e.what(), "cudaMalloc")) << e.what();
   }
   cuda::release(nullptr);  // harmless
+  uint64_t free_bytes = 1, total_bytes = 1;
+  EXPECT_FALSE(cudaMemoryInfo(free_bytes, total_bytes));  // reconstruct then checks host memory only
 }
 
 TEST(CudaDiscovery, WithAGpuThereIsNoErrorToReport) {
@@ -49,6 +51,20 @@ TEST(CudaDiscovery, WithAGpuThereIsNoErrorToReport) {
   EXPECT_GT(cudaDeviceCount(), 0);
   EXPECT_EQ(cuda::lastErrorDescription(), "");
   EXPECT_EQ(resolveDevice(Device::Auto), Device::Cuda);
+}
+
+// reconstruct's GPU memory check (app/memory_check.h) compares the volume with this.
+TEST(CudaDiscovery, MemoryInfoSeesAnAllocation) {
+  VF_REQUIRE_GPU();
+  uint64_t free_before = 0, total = 0;
+  ASSERT_TRUE(cudaMemoryInfo(free_before, total));
+  EXPECT_GT(total, uint64_t(1) << 30);
+  EXPECT_LE(free_before, total);
+  const size_t bytes = size_t(512) << 20;
+  Buffer<uint8_t> buffer(Device::Cuda, bytes);
+  uint64_t free_after = 0;
+  ASSERT_TRUE(cudaMemoryInfo(free_after, total));
+  EXPECT_LE(free_after + bytes, free_before);
 }
 
 TEST(CudaBuffer, FreshBufferIsZeroAndHoldsWhatWasUploaded) {
