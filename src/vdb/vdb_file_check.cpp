@@ -246,7 +246,11 @@ void checkTree(Cursor& c, const GridLayout& g) {
   const uint32_t children = c.read<uint32_t>("root child count");
   const uint64_t tile_bytes = 12 + g.value_bytes + 1;
   if (tiles > c.remaining() / tile_bytes) c.fail(std::to_string(tiles) + " root tiles do not fit in the file");
-  c.take(tiles * tile_bytes, "root tiles");
+  for (uint32_t n = 0; n < tiles; ++n) {
+    c.take(12 + g.value_bytes, "root tile");
+    // RootNode reads the flag straight into a bool: any byte but 0 or 1 is undefined behaviour.
+    if (c.read<uint8_t>("root tile active flag") > 1) c.fail("a root tile's active flag is neither 0 nor 1");
+  }
   const uint64_t min_child_bytes = 12 + 2 * 4096 + 1;
   if (children > c.remaining() / min_child_bytes)
     c.fail(std::to_string(children) + " root children do not fit in the file");
@@ -327,6 +331,9 @@ MetaMapFacts checkMetaMap(Cursor& c, const std::string& owner) {
       if (value_bytes != expected)
         c.fail(what + " states " + std::to_string(value_bytes) + " bytes, its type has " + std::to_string(expected));
     }
+    // BoolMetadata reads its byte straight into a bool, like the root tiles.
+    if (type == openvdb::BoolMetadata::staticTypeName() && value_bytes == 1 && value[0] > 1)
+      c.fail(what + " is neither 0 nor 1");
     if (name == "is_saved_as_half_float") {  // GridBase::META_SAVE_HALF_FLOAT
       if (type != openvdb::BoolMetadata::staticTypeName()) c.fail(what + " is not a bool");
       facts.saved_as_half = value[0] != 0;
