@@ -27,13 +27,10 @@ mkdir -p build-fuzz/fuzz-logs
 for t in "${targets[@]}"; do
   work=build-fuzz/tests/fuzz/corpus/$t
   mkdir -p "$work" "tests/fuzz/regressions/$t"
-  extra=()
-  # OpenVDB 10 leaks the node it was reading when a malformed file makes it throw (upstream).
-  [ "$t" = scene ] && extra=(-detect_leaks=0)
   log=build-fuzz/fuzz-logs/$t.log
   status=clean
   ASAN_OPTIONS=allocator_may_return_null=1 build-fuzz/tests/fuzz/fuzz_$t \
-    -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=20 -print_final_stats=1 "${extra[@]}" \
+    -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=20 -print_final_stats=1 \
     -artifact_prefix="tests/fuzz/regressions/$t/" "$work" "tests/fuzz/corpus/$t" >"$log" 2>&1 ||
     status="FINDING (see $log)"
   runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo "?")

@@ -18,8 +18,11 @@
 #include <cerrno>
 #include <cstdint>
 #include <cstring>
+#include <istream>
 #include <map>
 #include <openvdb/Metadata.h>
+#include <openvdb/io/Compression.h>
+#include <vector>
 
 #include "core/error.h"
 #include "vdb/openvdb_init.h"
@@ -156,14 +159,40 @@ void checkBloscHeader(Cursor& c, const uint8_t* chunk, uint64_t chunk_bytes, uin
            std::to_string(chunk_bytes));
 }
 
+// An istream over bytes already in memory, for libopenvdb's chunk decoders.
+class MemoryStreamBuf : public std::streambuf {
+ public:
+  MemoryStreamBuf(const uint8_t* data, size_t size) {
+    char* begin = const_cast<char*>(reinterpret_cast<const char*>(data));
+    setg(begin, begin, begin + size);
+  }
+};
+
+// Decodes one compressed chunk (its int64 size prefix included) with libopenvdb's own decoder.
+void decodeChunk(Cursor& c, const uint8_t* chunk, size_t chunk_bytes, uint64_t bytes, uint32_t compression) {
+  MemoryStreamBuf buffer(chunk, chunk_bytes);
+  std::istream in(&buffer);
+  std::vector<char> values(bytes);
+  try {
+    if (compression & kCompressBlosc)
+      openvdb::io::bloscFromStream(in, values.data(), bytes);
+    else
+      openvdb::io::unzipFromStream(in, values.data(), bytes);
+  } catch (const std::exception& e) {
+    c.fail(std::string("node values do not decompress: ") + e.what());
+  }
+}
+
 // io::readData: `bytes` bytes of values, raw or as one zip/blosc chunk whose int64 size prefix is
-// negative for data stored uncompressed.
-void checkValueData(Cursor& c, uint64_t bytes, uint32_t compression) {
+// negative for data stored uncompressed. With `decode`, a compressed chunk is also decompressed.
+void checkValueData(Cursor& c, uint64_t bytes, uint32_t compression, bool decode) {
   if (!(compression & (kCompressBlosc | kCompressZip))) {
     c.take(bytes, "node values");
     return;
   }
-  const int64_t stated = c.read<int64_t>("compressed chunk size");
+  const uint8_t* start = c.take(8, "compressed chunk size");
+  int64_t stated;
+  std::memcpy(&stated, start, 8);
   if (stated <= 0) {
     if (stated != -int64_t(bytes))
       c.fail("uncompressed chunk of " + std::to_string(stated) + " (negated) bytes where " + std::to_string(bytes) +
@@ -173,6 +202,7 @@ void checkValueData(Cursor& c, uint64_t bytes, uint32_t compression) {
   }
   const uint8_t* chunk = c.take(uint64_t(stated), "compressed node values");
   if (compression & kCompressBlosc) checkBloscHeader(c, chunk, uint64_t(stated), bytes, "node values");
+  if (decode) decodeChunk(c, start, 8 + size_t(stated), bytes, compression);
 }
 
 // What a grid's values look like in the file.
@@ -202,7 +232,10 @@ GridLayout layoutOfGridType(Cursor& c, const std::string& grid_name, const std::
 }
 
 // io::readCompressedValues for a node of `node_values` values with value mask `value_mask`.
-void checkCompressedValues(Cursor& c, uint64_t node_values, const uint8_t* value_mask, const GridLayout& g) {
+// Internal nodes are allocated before their values are decoded and libopenvdb leaks the node when
+// decoding throws, so their chunks are decoded here (`decode`); leaves belong to the tree by then.
+void checkCompressedValues(Cursor& c, uint64_t node_values, const uint8_t* value_mask, const GridLayout& g,
+                           bool decode) {
   const int8_t flags = c.read<int8_t>("node value flags");
   if (flags == kNoMaskAndOneInactiveVal || flags == kMaskAndOneInactiveVal || flags == kMaskAndTwoInactiveVals) {
     c.take(g.value_bytes, "inactive value");
@@ -215,7 +248,7 @@ void checkCompressedValues(Cursor& c, uint64_t node_values, const uint8_t* value
     count = countOnBits(value_mask, node_values / 8);
   // HalfReader reads nothing at all for zero values; readData still reads a chunk size.
   if (g.from_half && g.half_bytes && count == 0) return;
-  checkValueData(c, count * g.storedValueBytes(), g.compression);
+  checkValueData(c, count * g.storedValueBytes(), g.compression, decode);
 }
 
 using LeafMasks = std::vector<const uint8_t*>;
@@ -226,7 +259,7 @@ void checkInternalTopology(Cursor& c, int log2dim, const GridLayout& g, LeafMask
   const uint64_t values = uint64_t(1) << (3 * log2dim);
   const uint8_t* child_mask = c.take(values / 8, "child mask");
   const uint8_t* value_mask = c.take(values / 8, "value mask");
-  checkCompressedValues(c, values, value_mask, g);
+  checkCompressedValues(c, values, value_mask, g, /*decode=*/true);
   for (uint64_t byte = 0; byte < values / 8; ++byte) {
     for (int bit = 0; bit < 8; ++bit) {
       if (!(child_mask[byte] >> bit & 1)) continue;
@@ -255,15 +288,15 @@ void checkTree(Cursor& c, const GridLayout& g) {
   if (children > c.remaining() / min_child_bytes)
     c.fail(std::to_string(children) + " root children do not fit in the file");
 
-  // RootNode keeps its children in a std::map by origin: a repeated origin replaces the earlier
-  // child, and readBuffers visits them in the map's (x, y, z) order, not the file's.
+  // RootNode keeps its children in a std::map by origin and readBuffers visits them in the map's
+  // (x, y, z) order, not the file's. A repeated origin would replace (and leak) the earlier child.
   std::map<std::array<int32_t, 3>, LeafMasks> root_children;
   for (uint32_t n = 0; n < children; ++n) {
     std::array<int32_t, 3> origin;
     std::memcpy(origin.data(), c.take(12, "root child origin"), 12);
-    LeafMasks leaves;
-    checkInternalTopology(c, 5, g, leaves);
-    root_children[origin] = std::move(leaves);
+    const auto inserted = root_children.try_emplace(origin);
+    if (!inserted.second) c.fail("two root children at the same origin");
+    checkInternalTopology(c, 5, g, inserted.first->second);
   }
 
   for (const auto& child : root_children) {
@@ -273,7 +306,7 @@ void checkTree(Cursor& c, const GridLayout& g) {
       const uint8_t* mask = c.take(kLeafMaskBytes, "leaf value mask");
       if (std::memcmp(mask, topology_mask, kLeafMaskBytes) != 0)
         c.fail("a leaf's value mask differs between the tree topology and the leaf buffers");
-      checkCompressedValues(c, kLeafValues, mask, g);
+      checkCompressedValues(c, kLeafValues, mask, g, /*decode=*/false);
     }
   }
 }

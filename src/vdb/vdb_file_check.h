@@ -7,7 +7,9 @@
 // walks the same structure libopenvdb 10 reads (file format 222-224: header, file metadata, grid
 // descriptors, and for each grid that will be read its metadata, transform, tree topology and leaf
 // buffers) and checks every stated size against the bytes that are really there, so that what
-// libopenvdb then allocates is bounded by the file size.
+// libopenvdb then allocates is bounded by the file size. It also refuses what libopenvdb would
+// leak or read as undefined behaviour: internal-node values that do not decompress, two root
+// children at one origin, bool bytes other than 0 and 1.
 #include <string>
 #include <vector>
 
