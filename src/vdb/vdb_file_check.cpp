@@ -148,10 +148,14 @@ uint64_t countOnBits(const uint8_t* mask, size_t bytes) {
 
 // A blosc chunk's 16-byte header says how many bytes it decompresses to (bytes 4-7) and how many
 // compressed bytes it spans (bytes 12-15); blosc trusts both when it decompresses.
+// `padded_to` > 0: arrays shorter than that were zero-padded up to it before compression
+// (points::bloscCompress, which DelayedLoadMetadata uses, pads to BLOSC_PAD_BYTES = 128).
 void checkBloscHeader(Cursor& c, const uint8_t* chunk, uint64_t chunk_bytes, uint64_t expected_bytes,
-                      const std::string& what) {
+                      const std::string& what, uint64_t padded_to = 0) {
   if (chunk_bytes < 16) c.fail(what + ": blosc chunk of " + std::to_string(chunk_bytes) + " bytes has no header");
-  if (loadU32(chunk + 4) != expected_bytes)
+  const uint64_t decompressed = loadU32(chunk + 4);
+  const bool padded = expected_bytes < padded_to && decompressed == padded_to;
+  if (decompressed != expected_bytes && !padded)
     c.fail(what + ": blosc chunk decompresses to " + std::to_string(loadU32(chunk + 4)) + " bytes, expected " +
            std::to_string(expected_bytes));
   if (loadU32(chunk + 12) > chunk_bytes)
@@ -321,8 +325,10 @@ void checkDelayedLoadMetadata(Cursor& c, uint32_t value_bytes) {
   if (count > c.size() / kLeafMaskBytes)
     c.fail("delayed-load metadata lists " + std::to_string(count) + " leaves, more than the file can hold");
   const uint32_t mask_bytes = c.read<uint32_t>("delayed-load mask size");
+  constexpr uint64_t kBloscPadBytes = 128;
   if (mask_bytes > 0)
-    checkBloscHeader(c, c.take(mask_bytes, "delayed-load masks"), mask_bytes, count, "delayed-load masks");
+    checkBloscHeader(c, c.take(mask_bytes, "delayed-load masks"), mask_bytes, count, "delayed-load masks",
+                     kBloscPadBytes);
   else
     c.take(count, "delayed-load masks");
   const uint32_t sizes_bytes = c.read<uint32_t>("delayed-load sizes size");
@@ -330,7 +336,7 @@ void checkDelayedLoadMetadata(Cursor& c, uint32_t value_bytes) {
     // no compressed sizes stored
   } else if (sizes_bytes > 0) {
     checkBloscHeader(c, c.take(sizes_bytes, "delayed-load sizes"), sizes_bytes, uint64_t(count) * 8,
-                     "delayed-load sizes");
+                     "delayed-load sizes", kBloscPadBytes);
   } else {
     c.take(uint64_t(count) * 8, "delayed-load sizes");
   }

@@ -99,6 +99,24 @@ TEST_F(VdbFileCheck, WalksEveryCompressionAndHalfFloatToTheByte) {
   }
 }
 
+// Below 128 bytes libopenvdb pads the delayed-load arrays it keeps per leaf before compressing
+// them: a grid of a few leaves has such metadata.
+TEST_F(VdbFileCheck, WalksGridsOfAFewLeaves) {
+  for (const int leaves : {1, 7, 60, 200}) {
+    SCOPED_TRACE(std::to_string(leaves) + " leaves");
+    auto tsdf = openvdb::FloatGrid::create(0.04f);
+    tsdf->setName("tsdf");
+    for (int i = 0; i < leaves; ++i) tsdf->tree().setValue(openvdb::Coord(8 * i, 0, 0), 0.01f);
+    const std::string path = (dir_ / "few.vdb").string();
+    openvdb::io::File file(path);
+    file.write({tsdf});
+    file.close();
+    const VdbFileWalk walk = checkVdbFileStructure(path, kGridNames);
+    EXPECT_EQ(walk.grids_checked, 1);
+    EXPECT_EQ(walk.grids_ending_at_stated_end, 1);
+  }
+}
+
 TEST_F(VdbFileCheck, WalksAScene) {
   const std::string path = (dir_ / "scene.vdb").string();
   Scene scene;
