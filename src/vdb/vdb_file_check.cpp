@@ -32,7 +32,7 @@ namespace {
 
 constexpr int64_t kVdbMagic = 0x56444220;
 constexpr uint32_t kFirstFormat = 222;  // OPENVDB_FILE_VERSION_NODE_MASK_COMPRESSION
-constexpr uint32_t kLastFormat = 224;   // OPENVDB_FILE_VERSION_MULTIPASS_IO (OpenVDB 6 to 11)
+constexpr uint32_t kLastFormat = 224;   // OPENVDB_FILE_VERSION_MULTIPASS_IO, what OpenVDB 10 writes
 constexpr uint32_t kCompressZip = 0x1, kCompressActiveMask = 0x2, kCompressBlosc = 0x4;
 constexpr char kUniqueNameSeparator = '\x1e';      // GridDescriptor's "name[N]" suffix
 constexpr const char* kHalfFloatSuffix = "_HalfFloat";
