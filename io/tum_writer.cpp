@@ -7,13 +7,13 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <mutex>
 #include <optional>
 #include <sstream>
 #include <vector>
 
 #include "core/error.h"
+#include "io/image_io.h"
 
 namespace vf {
 namespace fs = std::filesystem;
@@ -26,74 +26,22 @@ std::string tumTimestampString(double t) {
 
 namespace {
 
-constexpr double kDepthUnitsPerMetre = 5000.0;  // TUM: 16-bit PNG value / 5000 = metres
-
-// cv::imwrite chooses the codec from the extension, so the temporary name keeps ".png".
-void writePngAtomic(const fs::path& target, const cv::Mat& image) {
-  const fs::path tmp = target.parent_path() / ("." + target.stem().string() + ".tmp.png");
-  bool ok = false;
-  try {
-    ok = cv::imwrite(tmp.string(), image);
-  } catch (const cv::Exception& e) {
-    std::error_code ignored;
-    fs::remove(tmp, ignored);
-    throw Error(target.string() + ": cannot write PNG (" + e.what() + ")");
-  }
-  std::error_code ec;
-  if (!ok) {
-    fs::remove(tmp, ec);
-    throw Error(target.string() + ": cannot write PNG");
-  }
-  fs::rename(tmp, target, ec);
-  if (ec) {
-    const std::string why = ec.message();
-    fs::remove(tmp, ec);
-    throw Error(target.string() + ": cannot rename the written PNG (" + why + ")");
-  }
+// Encoded in memory, then written through a temp file and renamed (io/image_io.h).
+void writePng(const fs::path& target, const cv::Mat& image) {
+  std::vector<uchar> png;
+  if (!cv::imencode(".png", image, png)) throw Error(target.string() + ": cannot encode PNG");
+  writeFileAtomic(target.string(), std::string(png.begin(), png.end()));
 }
 
-void writeTextAtomic(const fs::path& target, const std::string& text) {
-  const fs::path tmp = target.parent_path() / ("." + target.filename().string() + ".tmp");
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    f << text;
-    f.flush();
-    if (!f) {
-      f.close();
-      std::error_code ignored;
-      fs::remove(tmp, ignored);
-      throw Error(target.string() + ": cannot write (disk full or not writable?)");
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, target, ec);
-  if (ec) {
-    const std::string why = ec.message();
-    fs::remove(tmp, ec);
-    throw Error(target.string() + ": cannot rename the written file (" + why + ")");
-  }
-}
-
+// Not writeDepthPng: that one clamps to 65535, a converted dataset writes no reading instead.
 cv::Mat depthToPng(const DepthImage& depth) {
   cv::Mat out(depth.height(), depth.width(), CV_16UC1);
   for (int y = 0; y < depth.height(); ++y) {
     uint16_t* row = out.ptr<uint16_t>(y);
     for (int x = 0; x < depth.width(); ++x) {
-      const double units = std::round(double(depth(x, y)) * kDepthUnitsPerMetre);
+      const double units = std::round(double(depth(x, y)) * double(kTumDepthUnitsPerMetre));
       // Beyond 13.1 m a 16-bit value cannot hold the depth; no reading beats a wrong one.
       row[x] = (std::isfinite(units) && units > 0 && units <= 65535) ? uint16_t(units) : 0;
-    }
-  }
-  return out;
-}
-
-cv::Mat colorToPng(const ColorImage& color) {
-  cv::Mat out(color.height(), color.width(), CV_8UC3);
-  for (int y = 0; y < color.height(); ++y) {
-    cv::Vec3b* row = out.ptr<cv::Vec3b>(y);
-    for (int x = 0; x < color.width(); ++x) {
-      const Rgb8 c = color(x, y);
-      row[x] = {c.b, c.g, c.r};
     }
   }
   return out;
@@ -136,9 +84,9 @@ TumWriteResult writeTumFolder(const FrameSource& source, const std::string& fold
     r.timestamp = frame.timestamp;
     r.pose = frame.T_world_cam_given;
     const std::string stem = tumTimestampString(frame.timestamp);
-    writePngAtomic(dir / "depth" / (stem + ".png"), depthToPng(frame.depth));
+    writePng(dir / "depth" / (stem + ".png"), depthToPng(frame.depth));
     if (!frame.color.empty()) {
-      writePngAtomic(dir / "rgb" / (stem + ".png"), colorToPng(frame.color));
+      writeColorPng((dir / "rgb" / (stem + ".png")).string(), frame.color);
       r.has_color = true;
     }
     if (options.progress) {
@@ -186,10 +134,10 @@ TumWriteResult writeTumFolder(const FrameSource& source, const std::string& fold
                 "# depth PNG: uint16, depth_m = value / 5000 ; 0 = invalid\n",
                 k.width, k.height, description.substr(0, 200).c_str(), k.fx, k.fy, k.cx, k.cy,
                 d.k1, d.k2, d.p1, d.p2, d.k3);
-  writeTextAtomic(dir / "rgb.txt", rgb.str());
-  writeTextAtomic(dir / "depth.txt", depth.str());
-  if (result.poses) writeTextAtomic(dir / "groundtruth.txt", gt.str());
-  writeTextAtomic(dir / "camera_intrinsics.txt", calib);
+  writeFileAtomic((dir / "rgb.txt").string(), rgb.str());
+  writeFileAtomic((dir / "depth.txt").string(), depth.str());
+  if (result.poses) writeFileAtomic((dir / "groundtruth.txt").string(), gt.str());
+  writeFileAtomic((dir / "camera_intrinsics.txt").string(), calib);
   return result;
 }
 
