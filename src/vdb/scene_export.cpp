@@ -2,10 +2,8 @@
 
 #include <openvdb/io/File.h>
 #include <openvdb/tools/LevelSetUtil.h>
-#include <unistd.h>
 
 #include <cmath>
-#include <filesystem>
 
 #include "core/error.h"
 #include "vdb/scene_grids.h"
@@ -24,20 +22,7 @@ void writeBlenderVolume(const Scene& scene, const std::string& path) {
     color->setName("color");
     grids.push_back(color);
   }
-  namespace fs = std::filesystem;
-  const fs::path target(path);
-  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  const fs::path tmp = dir / ("." + target.filename().string() + ".tmp" + std::to_string(::getpid()));
-  try {
-    openvdb::io::File file(tmp.string());
-    file.write(grids);
-    file.close();
-    fs::rename(tmp, target);
-  } catch (const std::exception& e) {
-    std::error_code ignored;
-    fs::remove(tmp, ignored);
-    throw Error(path + ": cannot write Blender volume: " + e.what());
-  }
+  writeVdbFileAtomic(path, grids, openvdb::MetaMap(), "Blender volume");
 }
 
 std::vector<std::string> vdbGridNames(const std::string& path) {

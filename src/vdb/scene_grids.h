@@ -23,6 +23,11 @@ struct SceneGrids {
 // voxels were active before and are not any more.
 size_t removeMaskedVoxels(SceneGrids& grids, const openvdb::MaskGrid& mask);
 
+// Writes a .vdb through a temp file beside `path`, renamed into place; on error no file is left
+// and vf::Error says "PATH: cannot write WHAT: why".
+void writeVdbFileAtomic(const std::string& path, const openvdb::GridPtrVec& grids, const openvdb::MetaMap& meta,
+                        const std::string& what);
+
 // The scene's voxel-to-world transform: index (i,j,k) sits at origin + (i+0.5, j+0.5, k+0.5) * voxel
 // (cell centred, as VolumeView::voxelCenter).
 openvdb::math::Transform::Ptr sceneTransform(float voxel_size_m, const Vec3f& origin_m);

@@ -85,7 +85,12 @@ void writeScene(const Scene& scene, const std::string& path) {
                                                             ? std::string(VDBFUSE_VERSION_STRING)
                                                             : scene.meta.software_version));
 
-  // Temp file in the target directory, renamed into place: readers never see a half-written scene.
+  writeVdbFileAtomic(path, grids, meta, "scene");
+}
+
+void writeVdbFileAtomic(const std::string& path, const openvdb::GridPtrVec& grids, const openvdb::MetaMap& meta,
+                        const std::string& what) {
+  // Temp file in the target directory, renamed into place: readers never see a half-written file.
   const fs::path target(path);
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   if (!fs::is_directory(dir)) throw Error(path + ": output directory does not exist");
@@ -98,7 +103,7 @@ void writeScene(const Scene& scene, const std::string& path) {
   } catch (const std::exception& e) {
     std::error_code ignored;
     fs::remove(tmp, ignored);
-    throw Error(path + ": cannot write scene: " + e.what());
+    throw Error(path + ": cannot write " + what + ": " + e.what());
   }
 }
 
