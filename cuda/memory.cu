@@ -166,15 +166,31 @@ __global__ void __launch_bounds__(kSumThreads)
   if (threadIdx.x == 0) sums[k] = s[0];
 }
 
+// A device array that only grows. The old one is dropped before the new allocation, so that a
+// failed allocate() (which throws) leaves an empty array rather than a dangling one.
+template <class T>
+struct GrowingDeviceArray {
+  T* data = nullptr;
+  size_t capacity = 0;
+  T* atLeast(size_t count) {
+    if (capacity < count) {
+      release(data);
+      data = nullptr;
+      capacity = 0;
+      data = static_cast<T*>(allocate(count * sizeof(T)));
+      capacity = count;
+    }
+    return data;
+  }
+};
+
 struct ScratchStore {
   std::mutex mutex;
-  float* partials = nullptr;
-  size_t partial_capacity = 0;
-  double* sums = nullptr;
-  size_t sum_capacity = 0;
+  GrowingDeviceArray<float> partials;
+  GrowingDeviceArray<double> sums;
   ~ScratchStore() {  // at exit the runtime may already be unloading: release() ignores that
-    release(partials);
-    release(sums);
+    release(partials.data);
+    release(sums.data);
   }
 };
 
@@ -188,22 +204,8 @@ ScratchStore& scratchStore() {
 ReduceScratch::ReduceScratch(size_t partial_floats, size_t sum_doubles) {
   ScratchStore& store = scratchStore();
   lock_ = std::unique_lock<std::mutex>(store.mutex);
-  if (store.partial_capacity < partial_floats) {
-    release(store.partials);
-    store.partials = nullptr;
-    store.partial_capacity = 0;
-    store.partials = static_cast<float*>(allocate(partial_floats * sizeof(float)));
-    store.partial_capacity = partial_floats;
-  }
-  if (store.sum_capacity < sum_doubles) {
-    release(store.sums);
-    store.sums = nullptr;
-    store.sum_capacity = 0;
-    store.sums = static_cast<double*>(allocate(sum_doubles * sizeof(double)));
-    store.sum_capacity = sum_doubles;
-  }
-  partials_ = store.partials;
-  sums_ = store.sums;
+  partials_ = store.partials.atLeast(partial_floats);
+  sums_ = store.sums.atLeast(sum_doubles);
 }
 
 void ReduceScratch::sumToHost(int blocks, int n_components, double* out, const std::string& what) const {
