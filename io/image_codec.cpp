@@ -321,15 +321,15 @@ void pngWriteBytes(png_structp png, png_bytep data, size_t n) {
 }
 void pngFlush(png_structp) {}
 
-bool writePng(png_structp png, png_infop info, int width, int height, int channels, int bits, bool smallest,
+bool writePng(png_structp png, png_infop info, int width, int height, int channels, int bits, bool compact,
               png_bytep* rows) {
   if (setjmp(png_jmpbuf(png))) return false;
   png_set_IHDR(png, info, png_uint_32(width), png_uint_32(height), bits,
                channels == 1 ? PNG_COLOR_TYPE_GRAY : PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
                PNG_COMPRESSION_TYPE_BASE, PNG_FILTER_TYPE_BASE);
-  if (smallest) {
+  if (compact) {
     png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_ALL_FILTERS);
-    png_set_compression_level(png, Z_BEST_COMPRESSION);
+    png_set_compression_level(png, Z_DEFAULT_COMPRESSION);
   } else {
     png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_SUB);
     png_set_compression_level(png, Z_BEST_SPEED);
@@ -482,7 +482,7 @@ std::string encodePng(const void* pixels, int width, int height, int channels, i
   bool ok = false;
   if (png && info) {
     png_set_write_fn(png, &out, pngWriteBytes, pngFlush);
-    ok = writePng(png, info, width, height, channels, bits, compression == PngCompression::Smallest, rows.data());
+    ok = writePng(png, info, width, height, channels, bits, compression == PngCompression::Compact, rows.data());
   }
   png_destroy_write_struct(&png, &info);
   if (!ok) throw Error("cannot encode PNG for " + name + (error.text[0] ? std::string(": ") + error.text : ""));

@@ -14,7 +14,8 @@
 #   3. cuda_parity_test: largest TSDF difference and pose difference, CPU against CUDA
 #   4. fusion_bench on both captures, CUDA and CPU: ms per stage (medians) and per frame, ATE
 #   5. compute-sanitizer memcheck, racecheck and initcheck on 5 frames, where it exists
-# Exit status: 0 when every step passed or there is no GPU (a "no GPU" line says so), else 1.
+# Exit status: 0 when every step passed or there is no NVIDIA device (a "no GPU" line says so),
+# else 1 (a device the bundle cannot use is a failure too).
 set -u
 HERE=$(cd "$(dirname "$0")" && pwd)
 OUT=${OUT:-$HERE/out}
@@ -72,8 +73,14 @@ if [ -n "$needed" ] && [ -n "$have" ] &&
 fi
 run gpu-info 60 "$BIN/fusion_bench" --gpu-info
 if [ "$RC" -ne 0 ]; then
-  # Still show that the programs load and run here: the no-GPU path of the memory test.
   reason=$(head -1 "$LAST")
+  # An NVIDIA device the bundle cannot use (driver older than its CUDA runtime, a GPU it has no
+  # kernels for) is a failure, not a machine without a GPU.
+  if ls /dev/nvidia[0-9]* >/dev/null 2>&1; then
+    say "FAIL GPU present (/dev/nvidia*) but unusable by this bundle (CUDA 13, sm_90): ${reason#no CUDA GPU: }"
+    exit 1
+  fi
+  # Still show that the programs load and run here: the no-GPU path of the memory test.
   run no-gpu-discovery 60 "$BIN/cuda_memory_test" --gtest_filter='CudaDiscovery.*'
   say "no GPU: ${reason#no CUDA GPU: } (the programs load and run: cuda_memory_test discovery $(gtest_result)); nothing else to check here"
   exit 0

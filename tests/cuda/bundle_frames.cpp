@@ -1,7 +1,7 @@
 // bundle_frames: a compact copy of a TUM folder for the GPU bundle (scripts/gpu_bundle.sh), so
 // that both shared captures fit its 48 MiB: frames as TumDataset delivers them (associated, and
-// undistorted where the calibration has distortion), depth as 16-bit PNG at zlib's highest level
-// (lossless), colour as JPEG, one colour image per depth frame under the depth timestamp, the
+// undistorted where the calibration has distortion), depth as 16-bit PNG with adaptive filters
+// (lossless, 71 % of TUM's own PNGs), colour as JPEG, one colour image per depth frame under the depth timestamp, the
 // ground truth as it is, and camera_intrinsics.txt holding the pinhole alone (the frames are
 // already undistorted).
 //
@@ -57,7 +57,7 @@ void writeCompactCopy(const std::string& source, const std::string& target, int 
       units[p] = uint16_t(v > 65535.f ? 65535.f : v);
     }
     const std::string png = vf::encodePng(units.data(), frame.depth.width(), frame.depth.height(), 1, 16,
-                                          depth_name, vf::PngCompression::Smallest);
+                                          depth_name, vf::PngCompression::Compact);
     const std::string jpg = vf::encodeJpeg(frame.color, jpeg_quality, rgb_name);
     vf::writeFileAtomic((temp / depth_name).string(), png);
     vf::writeFileAtomic((temp / rgb_name).string(), jpg);

@@ -220,7 +220,7 @@ TEST(ImageCodec, HeadersBeyondTheLimitOrWithoutPixelsAreRefusedBeforeAllocating)
   EXPECT_TRUE(contains(error, "400 Mpx")) << error;
 }
 
-TEST(ImageCodec, PngWritersRoundTripAndTheSmallestSettingIsSmaller) {
+TEST(ImageCodec, PngWritersRoundTripAndTheCompactSettingIsSmaller) {
   VF_REQUIRE_DATA(tum, "tum_fr1_xyz_head100");
   const std::string path = firstFiles(tum + "/depth", ".png", 1)[0];
   const std::vector<uint8_t> original = bytesOf(path);
@@ -228,7 +228,7 @@ TEST(ImageCodec, PngWritersRoundTripAndTheSmallestSettingIsSmaller) {
   std::vector<uint16_t> units(size_t(depth.width()) * depth.height());
   for (size_t i = 0; i < units.size(); ++i) units[i] = uint16_t(depth.data()[i] * 5000.f + 0.5f);
   const std::string fast = encodePng(units.data(), depth.width(), depth.height(), 1, 16, "fast");
-  const std::string small = encodePng(units.data(), depth.width(), depth.height(), 1, 16, "small", PngCompression::Smallest);
+  const std::string small = encodePng(units.data(), depth.width(), depth.height(), 1, 16, "small", PngCompression::Compact);
   for (const std::string* png : {&fast, &small}) {
     const DepthImage back =
         decodeDepthPng(reinterpret_cast<const uint8_t*>(png->data()), png->size(), "round trip", 5000.f);
