@@ -267,6 +267,7 @@ Settings runSettings(const ReconstructOptions& o, const FrameSource& source, int
           {"device", deviceName(device)},
           {"poses", o.poses},
           {"format", o.source.format},
+          {"dataset_options", datasetOptionsKey(o.source)},
           {"min_confidence", std::to_string(o.source.min_confidence)},
           {"intrinsics", o.intrinsics},
           {"labels", o.labels_dir},
@@ -350,6 +351,8 @@ void runReconstruct(const ReconstructOptions& o) {
   SourceOptions source_options = o.source;
   if (!o.intrinsics.empty()) source_options.intrinsics = o.intrinsics;
   std::unique_ptr<FrameSource> source = openFrameSource(o.dataset, source_options);
+  std::string photometric_note;
+  const bool photometric = photometricTermWanted(source_options, *source, &photometric_note);
   const bool with_labels = !o.labels_dir.empty();
   if (!with_labels && (!o.classes_file.empty() || !o.dynamic_classes.empty()))
     throw Error("--classes and --dynamic-classes need --labels DIR (per-frame label maps)");
@@ -378,6 +381,8 @@ void runReconstruct(const ReconstructOptions& o) {
   }
   params.integration.class_vote = parseClassVote(o.class_vote);
   params.integration.class_vote_seed = o.class_vote_seed;
+  if (!photometric) params.icp.photometric_weight = 0;
+  if (!photometric_note.empty() && !o.quiet) std::fprintf(stderr, "%s\n", photometric_note.c_str());
   const PoseSource pose_source = parsePoses(o.poses);
   params.volume.validate();
   checkMemory(params, with_labels, parseDevice(o.device), source->depthIntrinsics(), o.quiet);
@@ -498,7 +503,7 @@ void runReconstruct(const ReconstructOptions& o) {
 void setup(CLI::App& root) {
   auto o = std::make_shared<ReconstructOptions>();
   CLI::App* cmd = root.add_subcommand("reconstruct", "Fuse an RGB-D sequence into a scene (.vdb)");
-  cmd->add_option("dataset", o->dataset, "TUM folder, Record3D .r3d file or Record3D export folder")->required();
+  cmd->add_option("dataset", o->dataset, std::string("RGB-D input, detected from its files:\n") + kKnownLayouts)->required();
   cmd->add_option("-o,--output", o->output, "Scene file to write (.vdb)");
   cmd->add_option("--trajectory", o->trajectory,
                   "Camera trajectory to write (TUM format; default: the scene's path with .txt)");
@@ -509,7 +514,9 @@ void setup(CLI::App& root) {
   cmd->add_option("--device", o->device, "cpu, cuda or auto (CUDA when a GPU is usable)")->capture_default_str();
   cmd->add_option("--poses", o->poses, "icp, given (recorded poses) or given+icp (refine them)")->capture_default_str();
   cmd->add_option("--intrinsics", o->intrinsics, "fx,fy,cx,cy overriding the dataset's calibration");
-  cmd->add_option("--format", o->source.format, "auto, tum, r3d or r3d-export")->capture_default_str();
+  cmd->add_option("--format", o->source.format, "auto, tum, r3d, r3d-export, 7scenes, replica, scannet or redwood")
+      ->capture_default_str();
+  addDatasetOptions(*cmd, o->source);
   cmd->add_option("--min-confidence", o->source.min_confidence, "Record3D: lowest depth confidence kept (0-2)")
       ->capture_default_str();
   cmd->add_option("--labels", o->labels_dir,

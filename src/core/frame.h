@@ -33,6 +33,10 @@ class FrameSource {
   virtual std::string description() const = 0;
   // Ground-truth trajectory if the source has one (TUM groundtruth.txt), else empty.
   virtual Trajectory groundTruth() const { return {}; }
+  // False when colour and depth come from different sensors without registration (7-Scenes,
+  // ScanNet): colour pixel (u, v) then does not see what depth pixel (u, v) sees, and colour
+  // terms that assume it (photometric tracking) should be left out.
+  virtual bool colorRegisteredToDepth() const { return true; }
 };
 
 }  // namespace vf
