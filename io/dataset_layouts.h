@@ -4,7 +4,8 @@
 // a read...() that lists the frames, poses, intrinsics and the depth scale.
 //
 //   7-Scenes / 3DMatch  frame-XXXXXX.{color.jpg|color.png, depth.png, pose.txt},
-//                       camera-intrinsics.txt (3x3; absent: 7-Scenes' 585, 585, 320, 240).
+//                       camera-intrinsics.txt (3x3) here or one folder up (3DMatch keeps it in the
+//                       scene above seq-XX); absent: 7-Scenes' documented 585, 585, 320, 240.
 //                       Depth in mm, 65535 = no reading; colour not registered to depth.
 //   Replica (NICE-SLAM) results/frameXXXXXX.jpg, results/depthXXXXXX.png, traj.txt (a row-major
 //                       4x4 per line), cam_params.json here or one folder up (its "scale").

@@ -48,7 +48,9 @@ FrameList readSevenScenes(const std::string& folder, const LayoutOptions& option
   // Kinect colour and depth cameras, calibrated but not registered to each other.
   list.color_registered = false;
   const fs::path dir(folder);
-  const fs::path intrinsics = dir / "camera-intrinsics.txt";
+  // 3DMatch keeps camera-intrinsics.txt in the scene folder, above its seq-XX frame folders.
+  fs::path intrinsics = dir / "camera-intrinsics.txt";
+  if (!fs::exists(intrinsics)) intrinsics = fs::absolute(dir).lexically_normal().parent_path() / "camera-intrinsics.txt";
   if (fs::exists(intrinsics)) {
     const PinholeMatrix k = parseIntrinsicMatrix(readTextFile(intrinsics.string(), 1 << 20), intrinsics.string());
     list.fx = k.fx, list.fy = k.fy, list.cx = k.cx, list.cy = k.cy;

@@ -134,6 +134,12 @@ TEST(DatasetCli, UnknownLayoutListsTheKnownOnes) {
   EXPECT_NE(log.find(dir + ": not a folder of a known RGB-D layout"), std::string::npos) << log;
   for (const char* layout : {"tum", "r3d", "r3d-export", "7scenes", "replica", "scannet", "redwood"})
     EXPECT_NE(log.find(std::string("  ") + layout + " "), std::string::npos) << layout << "\n" << log;
+  // A 7-Scenes/3DMatch scene folder holds its frames in seq-XX folders: say which to give.
+  const std::string scene = test::tempDir("cli_scene");
+  test::writeSevenScenes(scene + "/seq-01", test::fixturePoses(2));
+  const std::string seq = run("reconstruct " + scene + " -o " + dir + "/s.vdb" + kSmall, status);
+  EXPECT_NE(status, 0);
+  EXPECT_NE(seq.find("name one of its seq-XX folders"), std::string::npos) << seq;
   // A forced format that does not fit says what it expected.
   const std::string seven = test::tempDir("cli_forced");
   test::writeSevenScenes(seven, test::fixturePoses(2));

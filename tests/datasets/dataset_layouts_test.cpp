@@ -65,6 +65,15 @@ TEST(SevenScenes, WithoutIntrinsicsFileUsesTheDocumentedCamera) {
   EXPECT_NE(list.intrinsics_source.find("585"), std::string::npos);
 }
 
+TEST(SevenScenes, ThreeDMatchIntrinsicsOneFolderUpAreUsed) {
+  const std::string scene = test::tempDir("threedmatch");
+  test::writeSevenScenes(scene + "/seq-01", test::fixturePoses(2), 1000, false);
+  test::writeText(scene + "/camera-intrinsics.txt", "570.3 0 320\n0 570.3 240\n0 0 1\n");
+  const FrameList list = readSevenScenes(scene + "/seq-01");
+  EXPECT_FLOAT_EQ(list.fx, 570.3f);
+  EXPECT_NE(list.intrinsics_source.find("camera-intrinsics.txt"), std::string::npos);
+}
+
 TEST(SevenScenes, DepthScaleOverrideIsApplied) {
   const std::string dir = test::tempDir("seven_scenes_scale");
   const std::vector<Pose> poses = test::fixturePoses(2);
