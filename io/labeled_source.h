@@ -50,6 +50,7 @@ class LabeledFrameSource : public FrameSource {
   Distortion depthDistortion() const override { return inner_->depthDistortion(); }
   std::string description() const override;
   Trajectory groundTruth() const override { return inner_->groundTruth(); }
+  std::optional<Vec3f> worldUp() const override { return inner_->worldUp(); }
 
   const ClassTable& classes() const { return classes_; }
   // Totals over every load() so far.

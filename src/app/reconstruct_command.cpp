@@ -28,6 +28,7 @@
 #include "io/trajectory_io.h"
 #include "io/video_writer.h"
 #include "vdb/scene.h"
+#include "vdb/scene_frame.h"
 
 namespace vf::app {
 namespace {
@@ -487,7 +488,9 @@ void runReconstruct(const ReconstructOptions& o) {
   if (!o.output.empty()) {
     const auto t0 = std::chrono::steady_clock::now();
     meta.frame_count = frames - pipeline.framesLost();
-    const Scene scene = sceneFromDenseVolume(pipeline.hostVolume(), meta);
+    Scene scene = sceneFromDenseVolume(pipeline.hostVolume(), meta);
+    const SceneUp up = setSceneFrame(scene, trajectory, *source);  // gravity and camera, for exports (scene_frame.h)
+    std::printf("up: %s (%s)\n", up.source.c_str(), up.detail.c_str());
     writeScene(scene, o.output);
     std::filesystem::remove(checkpointPath(o));  // the run is complete: nothing to resume
     std::printf("wrote %s (%zu active voxels) in %.2f s\n", o.output.c_str(), scene.activeVoxelCount(),

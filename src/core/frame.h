@@ -33,6 +33,9 @@ class FrameSource {
   virtual std::string description() const = 0;
   // Ground-truth trajectory if the source has one (TUM groundtruth.txt), else empty.
   virtual Trajectory groundTruth() const { return {}; }
+  // Gravity's "up" in the frame of the given poses (T_world_cam_given), when the device knows it
+  // (ARKit's world is gravity-aligned); empty when not known.
+  virtual std::optional<Vec3f> worldUp() const { return std::nullopt; }
 };
 
 }  // namespace vf
