@@ -134,7 +134,8 @@ void writeDepthPng(const std::string& path, const DepthImage& depth_m, float uni
   encodeAndWrite(path, m);
 }
 
-void writeColorPng(const std::string& path, const ColorImage& color) {
+namespace {
+cv::Mat toBgr(const ColorImage& color, const std::string& path) {
   if (color.empty()) throw Error("cannot write empty colour image to " + path);
   cv::Mat m(color.height(), color.width(), CV_8UC3);
   for (int y = 0; y < m.rows; ++y) {
@@ -144,7 +145,17 @@ void writeColorPng(const std::string& path, const ColorImage& color) {
       row[x] = {c.b, c.g, c.r};  // OpenCV stores BGR
     }
   }
-  encodeAndWrite(path, m);
+  return m;
+}
+}  // namespace
+
+void writeColorPng(const std::string& path, const ColorImage& color) { encodeAndWrite(path, toBgr(color, path)); }
+
+void writeColorJpeg(const std::string& path, const ColorImage& color, int quality) {
+  std::vector<uchar> buffer;
+  if (!cv::imencode(".jpg", toBgr(color, path), buffer, {cv::IMWRITE_JPEG_QUALITY, std::clamp(quality, 1, 100)}))
+    throw Error("cannot encode JPEG for " + path);
+  writeFileAtomic(path, std::string(buffer.begin(), buffer.end()));
 }
 
 void writeLabelPng(const std::string& path, const LabelImage& labels) {
