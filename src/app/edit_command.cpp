@@ -68,9 +68,9 @@ void runEdit(const EditOptions& o) {
     std::printf("remove-outliers: removed %zu voxels observed fewer than %.1f times\n", r.weak_voxels,
                 o.outlier_min_weight);
     std::printf("remove-outliers: surface pieces under %zu triangles: %zu of %zu before, %zu of %zu after "
-                "(%zu pieces, %zu voxels removed in %d passes; %zu voxels of band left without a surface)\n",
+                "(%zu voxels removed in %d passes, and %zu voxels of band left without a surface)\n",
                 o.min_component, r.small_pieces_before, r.pieces_before, r.small_pieces_after, r.pieces_after,
-                r.pieces_removed, r.piece_voxels, r.passes, r.bare_band_voxels);
+                r.piece_voxels, r.passes, r.bare_band_voxels);
     if (r.small_pieces_after > 0)
       std::printf("remove-outliers: note: %zu small pieces remain after %d passes\n", r.small_pieces_after, r.passes);
   }

@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <atomic>
+#include <cstdint>
 #include <cmath>
 #include <memory>
 #include <numeric>
@@ -41,14 +42,16 @@ openvdb::MaskGrid::Ptr maskWhere(const SceneGrids& g, Pred pred) {
   return mask;
 }
 
-// The voxels at both ends of the edge each marked vertex lies on (a vertex exactly on a voxel:
-// that voxel), from its position in index space.
-openvdb::MaskGrid::Ptr edgeVoxels(const SceneGrids& g, const TriangleMesh& mesh, const std::vector<bool>& marked) {
+// The voxels at both ends of the edge each vertex with marked[v] == want lies on (a vertex
+// exactly on a voxel: that voxel), from its position in index space: the voxels the surface
+// passes between.
+openvdb::MaskGrid::Ptr edgeVoxels(const SceneGrids& g, const TriangleMesh& mesh, const std::vector<bool>& marked,
+                                  bool want) {
   auto mask = openvdb::MaskGrid::create();
   openvdb::tree::ValueAccessor<openvdb::MaskTree> acc(mask->tree());
   const openvdb::math::Transform& xform = g.tsdf->transform();
   for (size_t v = 0; v < mesh.positions.size(); ++v) {
-    if (!marked[v]) continue;
+    if (marked[v] != want) continue;
     const Vec3f& p = mesh.positions[v];
     const openvdb::Vec3d x = xform.worldToIndex(openvdb::Vec3d(p.x, p.y, p.z));
     int lo[3], hi[3];
@@ -144,6 +147,7 @@ OutlierReport removeOutliers(Scene& scene, const OutlierOptions& options) {
   if (options.min_component_triangles <= 1) return report;
 
   TriangleMesh mesh;
+  size_t last_small = SIZE_MAX;
   for (;;) {
     mesh = meshScene(scene);
     const std::vector<size_t> sizes = faceComponentSizes(mesh);
@@ -152,21 +156,24 @@ OutlierReport removeOutliers(Scene& scene, const OutlierOptions& options) {
     report.pieces_after = stats.pieces;
     report.small_pieces_after = stats.small;
     if (stats.small == 0 || report.passes >= options.max_passes) break;
-    // Marching cubes made each of a piece's faces from a cube whose eight voxels were all
-    // observed, with its vertices on the cube's edges: without those edges' voxels the cube,
-    // and the face, are gone.
+    // Marching cubes made each face from a cube whose eight voxels were all observed, with its
+    // vertices on the cube's edges: without an edge's voxels the cube, and the face, are gone.
+    // A voxel may end edges of a small piece and of a kept one: keep it, so that the kept
+    // surface loses as little as it can, unless that made no progress last pass.
     std::vector<bool> small(mesh.positions.size(), false);
     for (size_t f = 0; f < mesh.triangles.size(); ++f)
       if (sizes[f] < options.min_component_triangles)
         for (int32_t v : mesh.triangles[f]) small[size_t(v)] = true;
-    report.pieces_removed += stats.small;
-    report.piece_voxels += removeMaskedVoxels(g, *edgeVoxels(g, mesh, small));
+    openvdb::MaskGrid::Ptr cut = edgeVoxels(g, mesh, small, true);
+    if (stats.small < last_small) cut->tree().topologyDifference(edgeVoxels(g, mesh, small, false)->tree());
+    last_small = stats.small;
+    report.piece_voxels += removeMaskedVoxels(g, *cut);
     ++report.passes;
   }
   // What is left of a removed piece's band (voxels away from its surface) is fog without a
   // surface: it would still show in a volume export. Drop every face-connected part of the band
   // that no surface vertex lies on.
-  auto surface = edgeVoxels(g, mesh, std::vector<bool>(mesh.positions.size(), true));
+  auto surface = edgeVoxels(g, mesh, std::vector<bool>(mesh.positions.size(), true), true);
   openvdb::tree::ValueAccessor<const openvdb::MaskTree> sacc(surface->tree());
   const VoxelComponents parts = voxelComponents(g);
   std::vector<bool> has_surface(parts.parent.size(), false);

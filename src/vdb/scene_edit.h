@@ -31,8 +31,7 @@ struct OutlierOptions {
 struct OutlierReport {
   size_t weak_voxels = 0;
   size_t pieces_before = 0, small_pieces_before = 0;  // the surface before the piece filter
-  size_t pieces_removed = 0;                          // summed over the passes
-  size_t piece_voxels = 0;                            // voxels removed with them
+  size_t piece_voxels = 0;                            // voxels removed with the small pieces
   size_t pieces_after = 0, small_pieces_after = 0;    // small_pieces_after is 0 unless max_passes ran out
   size_t bare_band_voxels = 0;                        // band left without a surface, removed
   int passes = 0;
