@@ -27,6 +27,7 @@
 #include "core/error.h"
 #include "io/image_io.h"
 #include "io/mesh_io.h"
+#include "vdb/scene_frame.h"
 #include "viewer/class_panel.h"
 #include "viewer/frustum_poses.h"
 #include "viewer/interaction.h"
@@ -449,7 +450,9 @@ void SceneView::Impl::exportVisible() {
     if (!content.rows.empty() && !shown[i]) continue;
     meshes.push_back(color_by_class ? &colored[k++] : &content.parts[i].mesh);
   }
-  const TriangleMesh merged = mergeMeshes(meshes);
+  TriangleMesh merged = mergeMeshes(meshes);
+  // Z-up like every PLY vdbfuse writes (vdb/scene_frame.h), so it stands upright in Blender too.
+  transformMesh(merged, exportRotation(content.scene.meta, SceneAxes::kZUp));
   if (merged.triangles.empty()) {
     say("export: nothing visible to export");
     return;
@@ -460,7 +463,7 @@ void SceneView::Impl::exportVisible() {
     write.with_class_property = merged.hasClasses();
     write.classes = &content.scene.meta.classes;
     writeMesh(merged, path, write);
-    say("exported " + withThousands(merged.triangleCount()) + " triangles to " + path);
+    say("exported " + withThousands(merged.triangleCount()) + " triangles to " + path + " (Z-up)");
   } catch (const Error& e) {
     say(std::string("export failed: ") + e.what());
   }

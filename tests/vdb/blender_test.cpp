@@ -223,6 +223,7 @@ TEST_F(DanceInBlender, SavedBlendIsUprightColouredFramedAndItsVolumeShows) {
   EXPECT_GT(j["floor"]["share"].get<double>(), 0.05) << "a floor holds a good part of the surface";
   // The colours are the frames' (sRGB bytes kept as such through PLY into Blender).
   const std::array<double, 3> frames = fusedFramesMeanColor(kFrames);
+  std::printf("frames' mean colour (fused pixels): %.1f %.1f %.1f\n", frames[0], frames[1], frames[2]);
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(j["vertex_color"][c].get<double>(), frames[c], 10.0) << "channel " << c;
   // Framed: the scene fills a good part of the picture, lit neither black nor white.
   EXPECT_GT(j["render"]["coverage"].get<double>(), 0.2) << j["render"];
