@@ -61,6 +61,11 @@ void writeColorPng(const std::string& path, const ColorImage& color) {
   writeFileAtomic(path, encodePng(rgb.data(), color.width(), color.height(), 3, 8, path));
 }
 
+void writeColorJpeg(const std::string& path, const ColorImage& color, int quality) {
+  if (color.empty()) throw Error("cannot write empty colour image to " + path);
+  writeFileAtomic(path, encodeJpeg(color, std::clamp(quality, 1, 100), path));
+}
+
 void writeLabelPng(const std::string& path, const LabelImage& labels) {
   if (labels.empty()) throw Error("cannot write empty label map to " + path);
   const size_t n = size_t(labels.width()) * labels.height();

@@ -30,6 +30,8 @@ void writeDepthPng(const std::string& path, const DepthImage& depth_m,
                    float units_per_metre = kTumDepthUnitsPerMetre);
 // Colour -> 8-bit RGB PNG (alpha dropped).
 void writeColorPng(const std::string& path, const ColorImage& color);
+// Colour -> baseline JPEG (quality 1..100).
+void writeColorJpeg(const std::string& path, const ColorImage& color, int quality = 92);
 // Class ids -> 8-bit PNG when every id fits in a byte, else 16-bit.
 void writeLabelPng(const std::string& path, const LabelImage& labels);
 

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "core/atomic_output.h"
+#include "core/color.h"
 #include "core/error.h"
 
 namespace vf {
@@ -46,9 +47,20 @@ std::string groupName(const ClassTable* classes, int32_t id) {
   return name;
 }
 
-Rgb8 groupColor(const ClassTable* classes, int32_t id) {
-  const ClassInfo* c = classes ? classes->findId(id) : nullptr;
-  return c ? c->color : Rgb8{255, 255, 255, 255};
+// A group's material colour, linear: the class colour when the mesh is class-coloured or has no
+// vertex colours (white without a class table), else the mean of the group's vertex colours
+// (OBJ) or white (GLB, where COLOR_0 multiplies it).
+Vec3f groupColor(const TriangleMesh& mesh, const std::vector<size_t>& faces, const MeshWriteOptions& options,
+                 int32_t id, bool mean_of_vertices) {
+  if (options.class_colors || !mesh.hasColors()) {
+    const ClassInfo* c = options.classes ? options.classes->findId(id) : nullptr;
+    return c ? srgb8ToLinear(c->color) : Vec3f{1, 1, 1};
+  }
+  if (!mean_of_vertices) return {1, 1, 1};
+  Vec3f sum{0, 0, 0};
+  for (size_t f : faces)
+    for (int32_t v : mesh.triangles[f]) sum = sum + srgb8ToLinear(mesh.colors[size_t(v)]);
+  return faces.empty() ? Vec3f{1, 1, 1} : sum * (1.f / float(3 * faces.size()));
 }
 
 void checkMesh(const TriangleMesh& mesh, const std::string& path) {
@@ -74,8 +86,8 @@ void writeMesh(const TriangleMesh& mesh, const std::string& path, const MeshWrit
     throw Error(path + ": a point cloud can only be written as .ply");
   switch (format) {
     case MeshFormat::kPly: return writePly(mesh, path, options.with_class_property);
-    case MeshFormat::kObj: return writeObj(mesh, path, options.classes);
-    case MeshFormat::kGlb: return writeGlb(mesh, path, options.classes);
+    case MeshFormat::kObj: return writeObj(mesh, path, options);
+    case MeshFormat::kGlb: return writeGlb(mesh, path, options);
   }
 }
 
@@ -124,7 +136,8 @@ void writePly(const TriangleMesh& mesh, const std::string& path, bool with_class
   file.commit();
 }
 
-void writeObj(const TriangleMesh& mesh, const std::string& path, const ClassTable* classes) {
+void writeObj(const TriangleMesh& mesh, const std::string& path, const MeshWriteOptions& options) {
+  const ClassTable* classes = options.classes;
   checkMesh(mesh, path);
   const fs::path target(path);
   fs::path mtl_target = target;
@@ -135,9 +148,8 @@ void writeObj(const TriangleMesh& mesh, const std::string& path, const ClassTabl
   {
     std::ofstream mtl(mtl_tmp);
     for (const auto& [id, faces] : groups) {
-      const Rgb8 c = groupColor(classes, id);
-      mtl << "newmtl " << groupName(classes, id) << "\nKd " << c.r / 255.f << " " << c.g / 255.f << " "
-          << c.b / 255.f << "\n\n";
+      const Vec3f c = groupColor(mesh, faces, options, id, /*mean_of_vertices=*/true);
+      mtl << "newmtl " << groupName(classes, id) << "\nKd " << c.x << " " << c.y << " " << c.z << "\n\n";
     }
     std::ofstream out(tmp);
     if (!out || !mtl) throw Error(path + ": cannot create " + tmp.string());
@@ -179,7 +191,10 @@ void writeObj(const TriangleMesh& mesh, const std::string& path, const ClassTabl
   file.commit();
 }
 
-void writeGlb(const TriangleMesh& mesh, const std::string& path, const ClassTable* classes) {
+void writeGlb(const TriangleMesh& mesh, const std::string& path, const MeshWriteOptions& options) {
+  const ClassTable* classes = options.classes;
+  // Class colours go into the materials; COLOR_0 would multiply them by themselves.
+  const bool vertex_colors = mesh.hasColors() && !options.class_colors;
   checkMesh(mesh, path);
   const auto groups = facesByClass(mesh);
   // Assimp's aiScene owns (and deletes) everything hung on it.
@@ -195,9 +210,14 @@ void writeGlb(const TriangleMesh& mesh, const std::string& path, const ClassTabl
     auto* material = new aiMaterial();
     const aiString name(groupName(classes, id));
     material->AddProperty(&name, AI_MATKEY_NAME);
-    const Rgb8 c = groupColor(classes, id);
-    const aiColor4D diffuse(c.r / 255.f, c.g / 255.f, c.b / 255.f, 1.f);
-    material->AddProperty(&diffuse, 1, AI_MATKEY_COLOR_DIFFUSE);
+    const Vec3f c = groupColor(mesh, faces, options, id, /*mean_of_vertices=*/false);
+    const aiColor4D base(c.x, c.y, c.z, 1.f);
+    material->AddProperty(&base, 1, AI_MATKEY_COLOR_DIFFUSE);
+    material->AddProperty(&base, 1, AI_MATKEY_BASE_COLOR);
+    // A scanned room is a matte dielectric (glTF's default metallicFactor is 1: a dark mirror).
+    const float metallic = 0.f, roughness = 1.f;
+    material->AddProperty(&metallic, 1, AI_MATKEY_METALLIC_FACTOR);
+    material->AddProperty(&roughness, 1, AI_MATKEY_ROUGHNESS_FACTOR);
     scene.mMaterials[m] = material;
 
     // Each group gets its own compact vertex array (glTF primitives do not share vertices).
@@ -213,7 +233,7 @@ void writeGlb(const TriangleMesh& mesh, const std::string& path, const ClassTabl
     am->mNumVertices = unsigned(used.size());
     am->mVertices = new aiVector3D[used.size()];
     if (mesh.hasNormals()) am->mNormals = new aiVector3D[used.size()];
-    if (mesh.hasColors()) am->mColors[0] = new aiColor4D[used.size()];
+    if (vertex_colors) am->mColors[0] = new aiColor4D[used.size()];
     for (size_t i = 0; i < used.size(); ++i) {
       const Vec3f& p = mesh.positions[used[i]];
       am->mVertices[i] = aiVector3D(p.x, p.y, p.z);
@@ -221,9 +241,9 @@ void writeGlb(const TriangleMesh& mesh, const std::string& path, const ClassTabl
         const Vec3f& n = mesh.normals[used[i]];
         am->mNormals[i] = aiVector3D(n.x, n.y, n.z);
       }
-      if (mesh.hasColors()) {
-        const Rgb8 col = mesh.colors[used[i]];
-        am->mColors[0][i] = aiColor4D(col.r / 255.f, col.g / 255.f, col.b / 255.f, 1.f);
+      if (vertex_colors) {  // glTF: COLOR_0 is linear
+        const Vec3f col = srgb8ToLinear(mesh.colors[used[i]]);
+        am->mColors[0][i] = aiColor4D(col.x, col.y, col.z, 1.f);
       }
     }
     am->mNumFaces = unsigned(faces.size());

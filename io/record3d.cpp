@@ -30,6 +30,26 @@ int positiveInt(const json& j, const char* key, const std::string& source) {
   return v.get<int>();
 }
 
+// ARKit's world is gravity-aligned, +y up. Record3D writes the poses relative to the first
+// frame's ARKit pose and keeps that pose as `initPose`: ARKit = initPose * recorded, so up in
+// the recorded frame is initPose's rotation inverted applied to +y. Without `initPose` the
+// poses are ARKit's own unless the first is the identity (re-based, gravity lost).
+std::optional<Vec3f> record3dWorldUp(const json& j, const Record3dMetadata& m, const std::string& source) {
+  if (j.contains("initPose")) {
+    const json& p = j["initPose"];
+    if (!p.is_array() || p.size() != 7) throw Error(source + ": metadata 'initPose' must be [qx, qy, qz, qw, tx, ty, tz]");
+    Eigen::Quaterniond q(p[3].get<double>(), p[0].get<double>(), p[1].get<double>(), p[2].get<double>());
+    if (!(q.norm() > 0.5 && q.norm() < 2.0)) throw Error(source + ": metadata 'initPose' quaternion is not a rotation");
+    const Eigen::Vector3d up = q.normalized().toRotationMatrix().transpose() * Eigen::Vector3d::UnitY();
+    return Vec3f{float(up.x()), float(up.y()), float(up.z())};
+  }
+  if (m.T_world_cam.empty()) return std::nullopt;
+  // record3dPoseToCamera turned an identity pose into diag(1, -1, -1).
+  const Eigen::Matrix3d first_gl = m.T_world_cam.front().linear() * Eigen::Vector3d(1, -1, -1).asDiagonal();
+  if ((first_gl - Eigen::Matrix3d::Identity()).norm() < 1e-3) return std::nullopt;
+  return Vec3f{0, 1, 0};
+}
+
 }  // namespace
 
 Pose record3dPoseToCamera(const std::array<double, 7>& p) {
@@ -85,6 +105,7 @@ Record3dMetadata parseRecord3dMetadata(const std::string& text, const std::strin
     }
     if (j.contains("frameTimestamps"))
       m.timestamps_s = j["frameTimestamps"].get<std::vector<double>>();
+    m.world_up = record3dWorldUp(j, m, source);
   } catch (const json::exception& e) {
     throw Error(source + ": metadata has a field of the wrong type (" + e.what() + ")");
   }

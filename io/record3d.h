@@ -10,6 +10,7 @@
 // The folder a .r3d unzips to (the same `metadata` and `rgbd/` entries as files) reads the same.
 #include <array>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,7 @@ struct Record3dMetadata {
   double fps = 0;
   std::vector<Pose> T_world_cam;    // per frame, already in the project camera axes
   std::vector<double> timestamps_s;  // frameTimestamps when present, else empty
+  std::optional<Vec3f> world_up;     // gravity's up in the poses' frame (ARKit +y via initPose)
 };
 
 // Parses the metadata JSON; `source` names the file in error messages.
@@ -74,6 +76,7 @@ class Record3dCapture : public FrameSource {
   RgbdFrame load(int index) const override;
   Intrinsics depthIntrinsics() const override { return depth_intrinsics_; }
   std::string description() const override;
+  std::optional<Vec3f> worldUp() const override { return meta_.world_up; }
 
   const Record3dMetadata& metadata() const { return meta_; }
   const std::string& path() const { return path_; }

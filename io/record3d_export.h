@@ -27,6 +27,7 @@ class Record3dExport : public FrameSource {
   RgbdFrame load(int index) const override;  // thread-safe
   Intrinsics depthIntrinsics() const override { return depth_intrinsics_; }
   std::string description() const override;
+  std::optional<Vec3f> worldUp() const override { return meta_.world_up; }
   const Record3dMetadata& metadata() const { return meta_; }
 
  private:

@@ -1,5 +1,5 @@
 // vdbfuse-view: look at a scene document. Interactive by default; --screenshot renders offscreen
-// to a PNG and exits. Exit codes: 0 fine, 1 a vf::Error (message on stderr), 2 unexpected.
+// to a PNG or JPEG (by extension) and exits. Exit codes: 0 fine, 1 a vf::Error (message on stderr), 2 unexpected.
 #include <CLI/CLI.hpp>
 
 #include <chrono>
@@ -24,6 +24,7 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 
 int runViewer(const ViewOptions& o) {
   const bool offscreen = !o.screenshot_path.empty();
+  if (offscreen) pictureFormatFromPath(o.screenshot_path);  // a wrong extension fails before the work
   requireDisplay(offscreen);  // before the scene is read: fail in a second, not after meshing
   const auto t0 = std::chrono::steady_clock::now();
   // --no-trajectory hides the path; a trajectory camera still needs the poses.
@@ -66,7 +67,7 @@ int main(int argc, char** argv) {
   app.add_flag("--no-trajectory", no_trajectory, "do not draw the trajectory");
   app.add_option("--frustum-every", o.frustum_every, "a camera frustum every N poses (default: about 20 in all)")
       ->check(CLI::PositiveNumber);
-  app.add_option("--screenshot", o.screenshot_path, "render offscreen to this PNG and exit (needs X: xvfb-run -a)");
+  app.add_option("--screenshot", o.screenshot_path, "render offscreen to this .png or .jpg and exit (needs X: xvfb-run -a)");
   app.add_option("--size", size, "window / picture size WIDTHxHEIGHT (default 1280x720)");
   CLI::Option* camera_option =
       app.add_option("--camera", camera, "front | top | side | trajectory:N (pose N of the trajectory); default: "

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <future>
@@ -12,6 +13,8 @@
 #include "io/trajectory_io.h"
 #include "vdb/mesh_ops.h"
 #include "vdb/mesher.h"
+#include "vdb/vertex_color.h"
+#include "viewer/view_style.h"
 #include "viewer/view_options.h"
 
 namespace vf::viewer {
@@ -89,10 +92,15 @@ void loadTrajectory(SceneContent& c, const std::string& path, bool load) {
 
 }  // namespace
 
-Rgb8 classColor(const ClassTable& table, int id) {
-  const ClassInfo* info = table.findId(id);
-  return info ? info->color : Rgb8{128, 128, 128, 255};
+Rgb8 visibleOnBackdrop(Rgb8 c) {
+  const double luma = 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b;
+  if (luma >= kMinClassLuma) return c;
+  const double k = (kMinClassLuma - luma) / (255.0 - luma);  // towards white until the luma is reached
+  auto lift = [k](uint8_t v) { return uint8_t(std::lround(v + (255.0 - v) * k)); };
+  return {lift(c.r), lift(c.g), lift(c.b), c.a};
 }
+
+Rgb8 classColor(const ClassTable& table, int id) { return visibleOnBackdrop(classColorOf(table, id)); }
 
 SceneContent loadSceneContent(const std::string& scene_path, const std::string& trajectory_path,
                               bool load_trajectory, float min_weight) {

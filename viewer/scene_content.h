@@ -46,8 +46,10 @@ struct SceneContent {
   double read_s = 0, mesh_s = 0, split_s = 0;  // mesh_s includes the summary, computed beside it
 };
 
-// The class table's color for `id`, gray for ids it lacks (as meshScene colors them).
+// The class table's color for `id`, gray for ids it lacks (as meshScene colors them), lightened
+// to kMinClassLuma when darker so that it shows on the backdrop.
 Rgb8 classColor(const ClassTable& table, int id);
+Rgb8 visibleOnBackdrop(Rgb8 color);
 
 // Reads the scene, meshes it (RGB colors, per-vertex classes) and splits it by class.
 // `trajectory_path` empty: the file beside the scene if there is one; `load_trajectory` false:

@@ -27,6 +27,7 @@
 #include "core/error.h"
 #include "io/image_io.h"
 #include "io/mesh_io.h"
+#include "vdb/scene_frame.h"
 #include "viewer/class_panel.h"
 #include "viewer/frustum_poses.h"
 #include "viewer/interaction.h"
@@ -225,7 +226,8 @@ void SceneView::Impl::buildTrajectory() {
   const Vec3f d = content.surface_max_m - content.surface_min_m;
   const double depth_m = std::max(0.02, 0.035 * double(norm(d)));  // small next to the scene
   frustum_poses = frustumPoses(content.trajectory, options.frustum_every, 1.5 * depth_m);
-  trajectory_actor = makeTrajectoryActor(content.trajectory, frustum_poses, depth_m);
+  trajectory_actor =
+      makeTrajectoryActor(content.trajectory, frustum_poses, depth_m, frameCamera(content.scene.meta.depth_intrinsics));
   renderer->AddActor(trajectory_actor);
   trajectory_shown = options.show_trajectory;
   trajectory_actor->SetVisibility(trajectory_shown);
@@ -321,7 +323,15 @@ void SceneView::Impl::setCamera(const CameraSpec& spec) {
     cam->SetPosition(eye.x(), eye.y(), eye.z());
     cam->SetFocalPoint(ahead.x(), ahead.y(), ahead.z());
     cam->SetViewUp(up.x(), up.y(), up.z());
-    cam->SetViewAngle(kTrajectoryFovYDeg);
+    // The recorded camera's field of view, fitted into the window: its vertical angle when the
+    // window is wider than the image, else its horizontal one.
+    const FrameCamera frame = frameCamera(content.scene.meta.depth_intrinsics);
+    const int* size = window->GetSize();
+    const double window_aspect = size[1] > 0 ? double(size[0]) / size[1] : 1.0;
+    const double tan_y = std::tan(0.5 * frame.fov_y_deg * M_PI / 180.0);
+    cam->SetUseHorizontalViewAngle(window_aspect < frame.aspect);
+    cam->SetViewAngle(window_aspect < frame.aspect ? 2.0 * std::atan(tan_y * frame.aspect) * 180.0 / M_PI
+                                                   : frame.fov_y_deg);
     camera_frame = spec.frame;
     // Seen from a recorded camera the frustums would frame the picture itself: hide the path
     // until the camera leaves the trajectory.
@@ -333,6 +343,7 @@ void SceneView::Impl::setCamera(const CameraSpec& spec) {
     const int k = spec.preset == CameraPreset::kFront ? 0 : spec.preset == CameraPreset::kTop ? 1 : 2;
     const int* size = window->GetSize();
     const double aspect = size[1] > 0 ? double(size[0]) / size[1] : 1.0;
+    cam->SetUseHorizontalViewAngle(false);
     fitView(cam, dirs[k], ups[k], bounds, 30.0, aspect);
     camera_frame = -1;
     if (trajectory_actor) trajectory_actor->SetVisibility(trajectory_shown);
@@ -439,7 +450,9 @@ void SceneView::Impl::exportVisible() {
     if (!content.rows.empty() && !shown[i]) continue;
     meshes.push_back(color_by_class ? &colored[k++] : &content.parts[i].mesh);
   }
-  const TriangleMesh merged = mergeMeshes(meshes);
+  TriangleMesh merged = mergeMeshes(meshes);
+  // Z-up like every PLY vdbfuse writes (vdb/scene_frame.h), so it stands upright in Blender too.
+  transformMesh(merged, exportRotation(content.scene.meta, SceneAxes::kZUp));
   if (merged.triangles.empty()) {
     say("export: nothing visible to export");
     return;
@@ -450,7 +463,7 @@ void SceneView::Impl::exportVisible() {
     write.with_class_property = merged.hasClasses();
     write.classes = &content.scene.meta.classes;
     writeMesh(merged, path, write);
-    say("exported " + withThousands(merged.triangleCount()) + " triangles to " + path);
+    say("exported " + withThousands(merged.triangleCount()) + " triangles to " + path + " (Z-up)");
   } catch (const Error& e) {
     say(std::string("export failed: ") + e.what());
   }
@@ -555,7 +568,14 @@ SceneView::SceneView(SceneContent& content, const ViewOptions& options, bool off
 
 SceneView::~SceneView() = default;
 
-void SceneView::saveScreenshot(const std::string& path) { writeColorPng(path, impl_->capture()); }
+void SceneView::saveScreenshot(const std::string& path) {
+  const PictureFormat format = pictureFormatFromPath(path);
+  const ColorImage image = impl_->capture();
+  if (format == PictureFormat::kJpeg)
+    writeColorJpeg(path, image);
+  else
+    writeColorPng(path, image);
+}
 
 void SceneView::run() {
   vtkNew<vtkRenderWindowInteractor> interactor;

@@ -18,10 +18,11 @@ void addLine(vtkCellArray* lines, vtkIdType a, vtkIdType b) {
   lines->InsertNextCell(2, ids);
 }
 
-// Apex at the camera centre, a 4:3 rectangle at depth_m along the camera's +z (y down), and a
-// small tick on the top edge's middle so that "up" reads in the picture.
-void addFrustum(vtkPoints* points, vtkCellArray* lines, const Pose& T_world_cam, double depth_m) {
-  const double half_h = depth_m * std::tan(0.5 * kTrajectoryFovYDeg * M_PI / 180.0), half_w = half_h * 4.0 / 3.0;
+// Apex at the camera centre, the image rectangle at depth_m along the camera's +z (y down), and
+// a small tick on the top edge's middle so that "up" reads in the picture.
+void addFrustum(vtkPoints* points, vtkCellArray* lines, const Pose& T_world_cam, double depth_m,
+                const FrameCamera& camera) {
+  const double half_h = depth_m * std::tan(0.5 * camera.fov_y_deg * M_PI / 180.0), half_w = half_h * camera.aspect;
   const vtkIdType apex = addPoint(points, T_world_cam.translation());
   vtkIdType corner[4];
   const double cx[4] = {-half_w, half_w, half_w, -half_w}, cy[4] = {-half_h, -half_h, half_h, half_h};
@@ -38,7 +39,7 @@ void addFrustum(vtkPoints* points, vtkCellArray* lines, const Pose& T_world_cam,
 }  // namespace
 
 vtkSmartPointer<vtkActor> makeTrajectoryActor(const Trajectory& trajectory, const std::vector<size_t>& frustum_poses,
-                                              double depth_m) {
+                                              double depth_m, const FrameCamera& camera) {
   auto points = vtkSmartPointer<vtkPoints>::New();
   auto lines = vtkSmartPointer<vtkCellArray>::New();
   const vtkIdType n = vtkIdType(trajectory.size());
@@ -46,7 +47,7 @@ vtkSmartPointer<vtkActor> makeTrajectoryActor(const Trajectory& trajectory, cons
     lines->InsertNextCell(n);
     for (const StampedPose& p : trajectory) lines->InsertCellPoint(addPoint(points, p.T_world_cam.translation()));
   }
-  for (size_t i : frustum_poses) addFrustum(points, lines, trajectory[i].T_world_cam, depth_m);
+  for (size_t i : frustum_poses) addFrustum(points, lines, trajectory[i].T_world_cam, depth_m, camera);
 
   auto poly = vtkSmartPointer<vtkPolyData>::New();
   poly->SetPoints(points);

@@ -5,14 +5,16 @@
 #include <vtkSmartPointer.h>
 
 #include "core/pose.h"
+#include "viewer/view_options.h"
 #include "viewer/view_style.h"
 
 namespace vf::viewer {
 
 #include <vector>
 
-// The path through all poses, a frustum of depth_m at each of `frustum_poses` (frustumPoses()).
+// The path through all poses, a frustum of depth_m and the camera's field of view at each of
+// `frustum_poses` (frustumPoses()).
 vtkSmartPointer<vtkActor> makeTrajectoryActor(const Trajectory& trajectory, const std::vector<size_t>& frustum_poses,
-                                              double depth_m);
+                                              double depth_m, const FrameCamera& camera);
 
 }  // namespace vf::viewer

@@ -1,10 +1,12 @@
 #include "viewer/view_options.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 
 #include "core/error.h"
+#include "viewer/view_style.h"
 
 namespace vf::viewer {
 namespace {
@@ -74,6 +76,20 @@ std::string besideScene(const std::string& scene_path, const std::string& suffix
 }
 
 const char* axisName(int axis) { return axis == 0 ? "x" : axis == 1 ? "y" : "z"; }
+
+PictureFormat pictureFormatFromPath(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  if (ext == ".png") return PictureFormat::kPng;
+  if (ext == ".jpg" || ext == ".jpeg") return PictureFormat::kJpeg;
+  throw Error("--screenshot " + path + ": pictures are written as PNG or JPEG; name the file .png, .jpg or .jpeg");
+}
+
+FrameCamera frameCamera(const Intrinsics& k) {
+  if (!k.valid()) return {kTrajectoryFovYDeg, 4.0 / 3.0};
+  const double half_h = 0.5 * k.height / k.fy, half_w = 0.5 * k.width / k.fx;
+  return {2.0 * std::atan(half_h) * 180.0 / M_PI, half_w / half_h};
+}
 
 CameraPreset cameraFacingAxis(int axis) {
   return axis == 0 ? CameraPreset::kSide : axis == 1 ? CameraPreset::kTop : CameraPreset::kFront;

@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "core/intrinsics.h"
+
 namespace vf::viewer {
 
 // The world frame is the first camera's (x right, y down, z forward). front: looking along +z
@@ -28,7 +30,7 @@ struct ViewOptions {
   std::string trajectory_path;  // empty: the scene's stem + ".txt", if present
   bool show_trajectory = true;
   int frustum_every = 0;        // 0: spaced by the camera's motion (frustum_poses.h)
-  std::string screenshot_path;  // non-empty: render offscreen to this PNG and exit
+  std::string screenshot_path;  // non-empty: render offscreen to this PNG / JPEG and exit
   int width = 1280, height = 720;
   CameraSpec camera;
   bool camera_given = false;  // false: front, or facing the slice when there is one
@@ -51,6 +53,19 @@ std::string defaultTrajectoryPath(const std::string& scene_path);
 std::string besideScene(const std::string& scene_path, const std::string& suffix);
 
 const char* axisName(int axis);  // "x", "y", "z"
+
+// --screenshot's format by its extension (.png, .jpg or .jpeg, any case); throws vf::Error
+// naming the path for anything else, before any work is done.
+enum class PictureFormat { kPng, kJpeg };
+PictureFormat pictureFormatFromPath(const std::string& path);
+
+// What a recorded camera saw: the vertical field of view and width / height of the scene's
+// depth camera (SceneMetadata::depth_intrinsics), or a Kinect's (kTrajectoryFovYDeg, 4:3) for a
+// scene that does not record it.
+struct FrameCamera {
+  double fov_y_deg = 0, aspect = 0;
+};
+FrameCamera frameCamera(const Intrinsics& depth_intrinsics);
 
 // The preset that looks straight at a slice across `axis` (x: side, y: top, z: front).
 CameraPreset cameraFacingAxis(int axis);

@@ -14,8 +14,13 @@ inline constexpr double kWeightLowRgb[3] = {0.267, 0.005, 0.329}, kWeightHighRgb
 // Trajectory line and frustum color.
 inline constexpr unsigned char kTrajectoryColor[3] = {255, 170, 30};
 
-// Vertical field of view of the frustums and of the trajectory camera: a Kinect/Xtion (TUM),
-// 2 atan(240 / 525). The scene file does not record the intrinsics.
+// Vertical field of view of the frustums and of the trajectory camera when the scene does not
+// record its camera (files written before it did): a Kinect/Xtion (TUM), 2 atan(240 / 525).
 inline constexpr double kTrajectoryFovYDeg = 49.1;
+
+// Class colours darker than this (Rec. 709 luma of the sRGB bytes) are lightened to it, keeping
+// their hue: the palette gives id 0 ("background") black, which vanished into the dark
+// backdrop (kBackgroundBottom is luma 53).
+inline constexpr double kMinClassLuma = 110;
 
 }  // namespace vf::viewer

@@ -1,13 +1,18 @@
 // vdbfuse edit: class removal, crop, outlier removal and smoothing on a scene document,
-// written to a new file (the input is never modified).
+// written to a new file (the input is never modified). The trajectory beside the input
+// (scene.vdb -> scene.txt) is copied beside the output: edits keep the frame, so it still fits.
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "app/command_registry.h"
+#include "core/atomic_output.h"
 #include "core/error.h"
+#include "io/image_io.h"
 #include "vdb/class_selection.h"
 #include "vdb/scene.h"
 #include "vdb/scene_edit.h"
@@ -20,7 +25,7 @@ struct EditOptions {
   std::vector<std::string> exclude;
   std::vector<float> crop_box;
   bool remove_outliers = false, force = false;
-  size_t min_component_voxels = 500;
+  size_t min_component = 500;
   float outlier_min_weight = 2;
   int smooth = 0;
 };
@@ -31,6 +36,17 @@ void runEdit(const EditOptions& o) {
   if (fs::exists(o.output) && fs::equivalent(o.scene, o.output, ec))
     throw Error(o.output + ": edit never overwrites its input; choose another output");
   if (fs::exists(o.output) && !o.force) throw Error(o.output + ": exists; pass --force to overwrite it");
+  const std::string trajectory_in = fs::path(o.scene).replace_extension(".txt").string();
+  const std::string trajectory_out = fs::path(o.output).replace_extension(".txt").string();
+  const bool copy_trajectory = fs::exists(trajectory_in) && !fs::equivalent(trajectory_in, trajectory_out, ec);
+  if (copy_trajectory && fs::exists(trajectory_out) && !o.force)
+    throw Error(trajectory_out + ": exists (the trajectory would be copied there); pass --force to overwrite it");
+  std::string trajectory;  // copied byte for byte: edits keep the frame
+  if (copy_trajectory) {
+    std::ifstream in(trajectory_in, std::ios::binary);
+    trajectory.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    if (!in && !in.eof()) throw Error(trajectory_in + ": cannot read the trajectory beside the scene");
+  }
   Scene scene = readScene(o.scene);
   const size_t before = scene.activeVoxelCount();
   std::printf("read %s: %zu active voxels\n", o.scene.c_str(), before);
@@ -48,12 +64,16 @@ void runEdit(const EditOptions& o) {
   if (o.remove_outliers) {
     OutlierOptions options;
     options.min_weight = o.outlier_min_weight;
-    options.min_component_voxels = o.min_component_voxels;
+    options.min_component_triangles = o.min_component;
     const OutlierReport r = removeOutliers(scene, options);
-    std::printf("remove-outliers: removed %zu voxels observed fewer than %.1f times, %zu pieces (%zu voxels) under "
-                "%zu voxels; %zu pieces kept\n",
-                r.weak_voxels, o.outlier_min_weight, r.components_removed, r.component_voxels,
-                o.min_component_voxels, r.components_kept);
+    std::printf("remove-outliers: removed %zu voxels observed fewer than %.1f times\n", r.weak_voxels,
+                o.outlier_min_weight);
+    std::printf("remove-outliers: surface pieces under %zu triangles: %zu of %zu before, %zu of %zu after "
+                "(%zu voxels removed in %d passes, and %zu voxels of band left without a surface)\n",
+                o.min_component, r.small_pieces_before, r.pieces_before, r.small_pieces_after, r.pieces_after,
+                r.piece_voxels, r.passes, r.bare_band_voxels);
+    if (r.small_pieces_after > 0)
+      std::printf("remove-outliers: note: %zu small pieces remain after %d passes\n", r.small_pieces_after, r.passes);
   }
   if (o.smooth > 0) {
     const size_t n = smoothScene(scene, o.smooth);
@@ -61,8 +81,9 @@ void runEdit(const EditOptions& o) {
   }
   if (scene.activeVoxelCount() == 0) throw Error("the edits removed every voxel; nothing written");
   writeScene(scene, o.output);
-  std::printf("wrote %s: %zu active voxels (%zu removed)\n", o.output.c_str(), scene.activeVoxelCount(),
-              before - scene.activeVoxelCount());
+  if (copy_trajectory) writeFileAtomic(trajectory_out, trajectory);
+  std::printf("wrote %s: %zu active voxels (%zu removed)%s\n", o.output.c_str(), scene.activeVoxelCount(),
+              before - scene.activeVoxelCount(), copy_trajectory ? (" and " + trajectory_out).c_str() : "");
 }
 
 void setup(CLI::App& root) {
@@ -74,8 +95,11 @@ void setup(CLI::App& root) {
   cmd->add_option("--exclude-classes", o->exclude, "remove the voxels of these classes (names or ids)")->delimiter(',');
   cmd->add_option("--crop-box", o->crop_box, "keep voxels inside xmin,ymin,zmin,xmax,ymax,zmax (metres)")
       ->delimiter(',');
-  cmd->add_flag("--remove-outliers", o->remove_outliers, "drop small disconnected pieces and weakly observed voxels");
-  cmd->add_option("--min-component-voxels", o->min_component_voxels, "with --remove-outliers: smallest piece kept")
+  cmd->add_flag("--remove-outliers", o->remove_outliers,
+                "drop voxels observed fewer than --outlier-min-weight times, then the surface pieces under "
+                "--min-component triangles (the pieces `mesh --min-component` drops), so none is left");
+  cmd->add_option("--min-component", o->min_component,
+                  "with --remove-outliers: smallest surface piece kept, in triangles")
       ->capture_default_str();
   cmd->add_option("--outlier-min-weight", o->outlier_min_weight, "with --remove-outliers: least observations kept")
       ->capture_default_str();

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "app/command_registry.h"
+#include "app/scene_axes.h"
 #include "core/error.h"
 #include "core/atomic_output.h"
 #include "io/image_io.h"
@@ -21,7 +22,7 @@ namespace {
 namespace fs = std::filesystem;
 
 struct ExportOptions {
-  std::string scene, output, color = "rgb";
+  std::string scene, output, color = "rgb", axes;
   bool blender = false, points = false;
   float min_weight = 0;
 };
@@ -35,11 +36,26 @@ std::string jsonEscape(const std::string& s) {
   return out;
 }
 
-void exportBlender(const Scene& scene, const ExportOptions& o) {
+std::string jsonVec(Vec3f v) {
+  char text[96];
+  std::snprintf(text, sizeof text, "[%.6g, %.6g, %.6g]", v.x, v.y, v.z);
+  return text;
+}
+
+void exportBlender(Scene& scene, const ExportOptions& o) {
+  const SceneAxes axes = axesFor(o.axes, MeshFormat::kPly);
+  const Rigid3f to_file = exportRotationFor(scene, o.scene, axes);
   fs::create_directories(o.output);
   MeshOptions options;
   options.min_weight = o.min_weight;
-  const TriangleMesh mesh = meshScene(scene, options);
+  TriangleMesh mesh = meshScene(scene, options);
+  transformMesh(mesh, to_file);
+  Vec3f lo{0, 0, 0}, hi{0, 0, 0};
+  for (size_t i = 0; i < mesh.positions.size(); ++i) {
+    const Vec3f& p = mesh.positions[i];
+    lo = i ? Vec3f{std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)} : p;
+    hi = i ? Vec3f{std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)} : p;
+  }
   // Manifest for samples/blender/import_scene.py: one object per class, plus the volume.
   std::string manifest = "{\n  \"meshes\": [\n";
   bool first = true;
@@ -48,27 +64,40 @@ void exportBlender(const Scene& scene, const ExportOptions& o) {
     const std::string file = stem + ".ply";
     writePly(part, (fs::path(o.output) / file).string(), false);
     const ClassInfo* info = scene.meta.classes.findId(id);
-    const Rgb8 c = info ? info->color : Rgb8{200, 200, 200, 255};
+    const Rgb8 c = classColorOf(scene.meta.classes, id);
     manifest += std::string(first ? "" : ",\n") + "    {\"file\": \"" + jsonEscape(file) + "\", \"class_id\": " +
                 std::to_string(id) + ", \"name\": \"" + jsonEscape(info ? info->name : stem) +
                 "\", \"class_color\": [" + std::to_string(c.r) + ", " + std::to_string(c.g) + ", " +
-                std::to_string(c.b) + "]}";
+                std::to_string(c.b) + "], \"triangles\": " + std::to_string(part.triangleCount()) + "}";
     first = false;
     std::printf("wrote %s: %zu triangles\n", file.c_str(), part.triangleCount());
   }
-  writeBlenderVolume(scene, (fs::path(o.output) / "volume.vdb").string());
-  std::printf("wrote volume.vdb: density + color grids\n");
-  manifest += "\n  ],\n  \"volume\": \"volume.vdb\",\n  \"voxel_size_m\": " + std::to_string(scene.meta.voxel_size_m) +
-              "\n}\n";
+  const BlenderVolumeInfo volume = writeBlenderVolume(scene, (fs::path(o.output) / "volume.vdb").string(), to_file);
+  std::printf("wrote volume.vdb: density + color grids (density %.3g..%.3g over a %.3f m band)\n",
+              volume.density_min, volume.density_max, volume.band_m);
+  const SceneMetadata& m = scene.meta;
+  char numbers[256];
+  std::snprintf(numbers, sizeof numbers,
+                "  \"voxel_size_m\": %.6g,\n  \"density_range\": [%.6g, %.6g],\n  \"density_band_m\": %.6g,\n",
+                m.voxel_size_m, volume.density_min, volume.density_max, volume.band_m);
+  manifest += "\n  ],\n  \"volume\": \"volume.vdb\",\n" + std::string(numbers);
+  // How the files map back to the scene: p_file = rotation * p_scene (rows).
+  manifest += "  \"axes\": \"" + std::string(sceneAxesName(axes)) + "\",\n  \"up_source\": \"" +
+              jsonEscape(axes == SceneAxes::kCamera ? "" : m.up_source) + "\",\n  \"rotation\": [" +
+              jsonVec({to_file.r[0], to_file.r[1], to_file.r[2]}) + ", " + jsonVec({to_file.r[3], to_file.r[4], to_file.r[5]}) +
+              ", " + jsonVec({to_file.r[6], to_file.r[7], to_file.r[8]}) + "],\n  \"bounds_min\": " + jsonVec(lo) +
+              ",\n  \"bounds_max\": " + jsonVec(hi) + "\n}\n";
   // Temp file + rename, with write errors reported (an unchecked ofstream renamed a short file).
   writeFileAtomic((fs::path(o.output) / "scene.json").string(), manifest);
+  std::printf("axes %s (up from %s)\n", sceneAxesName(axes), axes == SceneAxes::kCamera ? "-" : m.up_source.c_str());
   std::printf("wrote scene.json; import with: blender --python samples/blender/import_scene.py -- %s\n",
               o.output.c_str());
 }
 
 void runExport(const ExportOptions& o) {
   if (o.blender == o.points) throw Error("export: choose exactly one of --blender and --points");
-  const Scene scene = readScene(o.scene);
+  if (!o.axes.empty()) parseSceneAxes(o.axes);
+  Scene scene = readScene(o.scene);
   if (o.color == "class" && !scene.hasClasses())
     throw Error("--color class: the scene has no class grid (fused without labels)");
   if (o.blender) return exportBlender(scene, o);
@@ -76,7 +105,8 @@ void runExport(const ExportOptions& o) {
   MeshOptions options;
   options.min_weight = o.min_weight;
   options.color = o.color == "class" ? MeshColorMode::kClass : MeshColorMode::kRgb;
-  const TriangleMesh cloud = scenePointCloud(scene, options);
+  TriangleMesh cloud = scenePointCloud(scene, options);
+  transformMesh(cloud, exportRotationFor(scene, o.scene, axesFor(o.axes, MeshFormat::kPly)));
   writePly(cloud, o.output, cloud.hasClasses());
   std::printf("wrote %s: %zu points\n", o.output.c_str(), cloud.vertexCount());
 }
@@ -92,6 +122,8 @@ void setup(CLI::App& root) {
       ->check(CLI::IsMember({"rgb", "class"}))
       ->capture_default_str();
   cmd->add_option("--min-weight", o->min_weight, "treat voxels observed fewer times as unobserved");
+  cmd->add_option("--axes", o->axes, "frame of the files: camera (as fused), z-up (default: Blender, PLY) or y-up")
+      ->check(CLI::IsMember({"camera", "z-up", "y-up"}));
   cmd->callback([o] { runExport(*o); });
 }
 

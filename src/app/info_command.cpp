@@ -24,6 +24,15 @@ void runInfo(const std::string& path) {
                 s.bounds_min_m.y, s.bounds_min_m.z, s.bounds_max_m.x, s.bounds_max_m.y, s.bounds_max_m.z,
                 s.bounds_max_m.x - s.bounds_min_m.x, s.bounds_max_m.y - s.bounds_min_m.y,
                 s.bounds_max_m.z - s.bounds_min_m.z);
+  if (norm(m.up_world) > 0)
+    std::printf("up           [%.3f %.3f %.3f] from %s; forward [%.3f %.3f %.3f]\n", m.up_world.x, m.up_world.y,
+                m.up_world.z, m.up_source.c_str(), m.forward_world.x, m.forward_world.y, m.forward_world.z);
+  else
+    std::printf("up           not recorded (exports estimate it)\n");
+  if (m.depth_intrinsics.valid())
+    std::printf("camera       %dx%d, fx %.1f fy %.1f cx %.1f cy %.1f\n", m.depth_intrinsics.width,
+                m.depth_intrinsics.height, m.depth_intrinsics.fx, m.depth_intrinsics.fy, m.depth_intrinsics.cx,
+                m.depth_intrinsics.cy);
   std::printf("memory       %.1f MiB\n\ngrids\n", s.memory_bytes / 1048576.0);
   for (const GridSummary& g : s.grids)
     std::printf("  %-17s %-7s %12zu active %9.1f MiB\n", g.name.c_str(), g.value_type.c_str(), g.active_voxels,

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "app/command_registry.h"
+#include "app/scene_axes.h"
 #include "core/error.h"
 #include "io/mesh_io.h"
 #include "vdb/class_selection.h"
@@ -18,7 +19,7 @@ namespace vf::app {
 namespace {
 
 struct MeshCommandOptions {
-  std::string scene, output, color = "rgb";
+  std::string scene, output, color = "rgb", axes;
   float min_weight = 0;
   std::vector<std::string> include, exclude;
   bool per_class = false, with_class_property = false;
@@ -33,8 +34,8 @@ void runMesh(const MeshCommandOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   if (!o.include.empty() && !o.exclude.empty())
     throw Error("--include-classes and --exclude-classes cannot be combined");
-  meshFormatFromPath(o.output);  // reject an unknown extension before the work
-  const Scene scene = readScene(o.scene);
+  const SceneAxes axes = axesFor(o.axes, meshFormatFromPath(o.output));  // bad values fail before the work
+  Scene scene = readScene(o.scene);
   MeshOptions options;
   options.min_weight = o.min_weight;
   options.color = o.color == "class" ? MeshColorMode::kClass : MeshColorMode::kRgb;
@@ -56,13 +57,19 @@ void runMesh(const MeshCommandOptions& o) {
                 classNames(scene.meta.classes, ids).c_str(), before - mesh.triangleCount());
   }
   if (o.min_component > 1) {
+    const ComponentStats before = meshComponents(mesh, o.min_component);
     const size_t removed = removeSmallComponents(mesh, o.min_component);
-    std::printf("removed %zu triangles in pieces under %zu triangles\n", removed, o.min_component);
+    std::printf("removed %zu triangles in %zu of %zu pieces (those under %zu triangles)\n", removed, before.small,
+                before.pieces, o.min_component);
   }
   if (mesh.triangles.empty()) throw Error(o.output + ": nothing left to write (empty mesh)");
+  transformMesh(mesh, exportRotationFor(scene, o.scene, axes));
+  std::printf("axes %s (up from %s)\n", sceneAxesName(axes),
+              axes == SceneAxes::kCamera ? "-" : scene.meta.up_source.c_str());
   MeshWriteOptions write;
   write.classes = &scene.meta.classes;
   write.with_class_property = o.with_class_property;
+  write.class_colors = options.color == MeshColorMode::kClass;
   if (!o.per_class) {
     writeMesh(mesh, o.output, write);
     std::printf("wrote %s: %zu triangles (%.2f s)\n", o.output.c_str(), mesh.triangleCount(), secondsSince(t0));
@@ -89,11 +96,12 @@ void setup(CLI::App& root) {
   cmd->add_option("--include-classes", o->include, "keep only faces of these classes (names or ids)")->delimiter(',');
   cmd->add_option("--exclude-classes", o->exclude, "drop faces of these classes (names or ids)")->delimiter(',');
   cmd->add_flag("--per-class", o->per_class, "write one mesh per class: <output stem>_<class>.<ext>");
-  cmd->add_option("--min-component", o->min_component, "drop connected pieces with fewer triangles");
+  cmd->add_option("--min-component", o->min_component, "drop connected pieces (faces sharing a vertex) with fewer triangles");
   cmd->add_option("--color", o->color, "vertex colors: fused rgb or class colors")
       ->check(CLI::IsMember({"rgb", "class"}))
       ->capture_default_str();
   cmd->add_flag("--with-class-property", o->with_class_property, "PLY: add an int `class` vertex property");
+  cmd->add_option("--axes", o->axes, kAxesHelp)->check(CLI::IsMember({"camera", "z-up", "y-up"}));
   cmd->callback([o] { runMesh(*o); });
 }
 

@@ -37,6 +37,9 @@ class FrameSource {
   // another camera, resampled to the depth size), so that colour terms that assume it
   // (photometric tracking) should be left out.
   virtual bool colorRegisteredToDepth() const { return true; }
+  // Gravity's "up" in the frame of the given poses (T_world_cam_given), when the device knows it
+  // (ARKit's world is gravity-aligned); empty when not known.
+  virtual std::optional<Vec3f> worldUp() const { return std::nullopt; }
 };
 
 }  // namespace vf

@@ -69,8 +69,7 @@ std::map<int32_t, TriangleMesh> splitByClass(const TriangleMesh& mesh) {
   return out;
 }
 
-size_t removeSmallComponents(TriangleMesh& mesh, size_t min_triangles) {
-  if (min_triangles <= 1 || mesh.triangles.empty()) return 0;
+std::vector<size_t> faceComponentSizes(const TriangleMesh& mesh) {
   // Union-find over vertices; faces sharing a vertex share a component.
   std::vector<int32_t> parent(mesh.positions.size());
   std::iota(parent.begin(), parent.end(), 0);
@@ -85,10 +84,33 @@ size_t removeSmallComponents(TriangleMesh& mesh, size_t min_triangles) {
     }
   std::vector<size_t> faces(parent.size(), 0);
   for (const auto& t : mesh.triangles) ++faces[find(t[0])];
+  std::vector<size_t> out(mesh.triangles.size());
+  for (size_t f = 0; f < mesh.triangles.size(); ++f) out[f] = faces[find(mesh.triangles[f][0])];
+  return out;
+}
+
+ComponentStats meshComponents(const TriangleMesh& mesh, size_t min_triangles) {
+  ComponentStats stats;
+  // Every face knows its piece's size n, so a piece of n faces shows up n times: count faces
+  // by size and divide.
+  std::map<size_t, size_t> faces_of_size;
+  for (size_t size : faceComponentSizes(mesh)) ++faces_of_size[size];
+  for (const auto& [size, faces] : faces_of_size) {
+    stats.largest = std::max(stats.largest, size);
+    if (size < min_triangles) stats.small_triangles += faces;
+    stats.pieces += faces / size;
+    if (size < min_triangles) stats.small += faces / size;
+  }
+  return stats;
+}
+
+size_t removeSmallComponents(TriangleMesh& mesh, size_t min_triangles) {
+  if (min_triangles <= 1 || mesh.triangles.empty()) return 0;
+  const std::vector<size_t> sizes = faceComponentSizes(mesh);
   std::vector<bool> keep(mesh.triangles.size());
   size_t removed = 0;
   for (size_t f = 0; f < mesh.triangles.size(); ++f) {
-    keep[f] = faces[find(mesh.triangles[f][0])] >= min_triangles;
+    keep[f] = sizes[f] >= min_triangles;
     removed += !keep[f];
   }
   if (removed) mesh = selectFaces(mesh, keep);

@@ -24,7 +24,18 @@ TriangleMesh filterFacesByClass(const TriangleMesh& mesh, const std::set<int>& i
 // One mesh per face class (key -1: unknown). Together they hold exactly the input's faces.
 std::map<int32_t, TriangleMesh> splitByClass(const TriangleMesh& mesh);
 
-// Drops connected pieces (faces sharing a vertex) with fewer than `min_triangles` faces; returns how many faces went.
+// Connected pieces: faces sharing a vertex are in one piece. Per face, its piece's face count.
+std::vector<size_t> faceComponentSizes(const TriangleMesh& mesh);
+
+struct ComponentStats {
+  size_t pieces = 0;           // connected pieces
+  size_t small = 0;            // of them, with fewer than the threshold's triangles
+  size_t small_triangles = 0;  // faces in those
+  size_t largest = 0;          // faces of the largest piece
+};
+ComponentStats meshComponents(const TriangleMesh& mesh, size_t min_triangles);
+
+// Drops connected pieces with fewer than `min_triangles` faces; returns how many faces went.
 size_t removeSmallComponents(TriangleMesh& mesh, size_t min_triangles);
 
 // A file-name-safe form of a class name ("dining table" -> "dining_table"; unknown -> "unknown").

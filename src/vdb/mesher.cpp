@@ -20,20 +20,6 @@ using FloatAcc = openvdb::tree::ValueAccessor<const openvdb::FloatTree>;
 using IndexAcc = openvdb::tree::ValueAccessor<const openvdb::Int32Tree>;
 using ColorAcc = openvdb::tree::ValueAccessor<const openvdb::Vec3STree>;
 
-// Linear 0..1 -> sRGB 8 bit through a 4096-entry table (pow per vertex channel is slow).
-uint8_t linearToSrgb8(float c) {
-  static const std::array<uint8_t, 4096> table = [] {
-    std::array<uint8_t, 4096> t{};
-    for (int i = 0; i < 4096; ++i) {
-      const float x = i / 4095.f;
-      const float s = x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.f / 2.4f) - 0.055f;
-      t[i] = uint8_t(std::lround(std::clamp(s, 0.f, 1.f) * 255.f));
-    }
-    return t;
-  }();
-  return table[size_t(std::clamp(c, 0.f, 1.f) * 4095.f + 0.5f)];
-}
-
 // A leaf's 8^3 voxels plus the one-voxel border on the +x/+y/+z sides: everything a cube
 // whose lowest corner lies in the leaf touches, fetched once per leaf.
 struct LeafBlock {
@@ -155,13 +141,14 @@ class Mesher {
             p[a] += t;
             const openvdb::Vec3d w = xform.indexToWorld(p);
             positions_[next] = {float(w.x()), float(w.y()), float(w.z())};
+            if (kacc) classes_[next] = kacc->getValue(t < 0.5f ? ijk : nb);
+            Vec3f linear{0, 0, 0};
             if (cacc) {
               const openvdb::Vec3s c = cacc->getValue(ijk) * (1.f - t) + cacc->getValue(nb) * t;
-              colors_[next] = {linearToSrgb8(c.x()), linearToSrgb8(c.y()), linearToSrgb8(c.z()), 255};
-            } else {
-              colors_[next] = {200, 200, 200, 255};
+              linear = {c.x(), c.y(), c.z()};
             }
-            if (kacc) classes_[next] = kacc->getValue(t < 0.5f ? ijk : nb);
+            colors_[next] = surfaceColor(options_.color, meta_.classes, kacc ? classes_[next] : kSceneUnknownClass,
+                                         cacc ? &linear : nullptr);
             ++next;
           }
         }
@@ -233,12 +220,7 @@ class Mesher {
       const int32_t r = remap[v];
       if (r < 0) continue;
       mesh.positions[r] = positions_[v];
-      if (options_.color == MeshColorMode::kClass) {
-        const ClassInfo* info = classes_.empty() ? nullptr : meta_.classes.findId(classes_[v]);
-        mesh.colors[r] = info ? info->color : Rgb8{128, 128, 128, 255};
-      } else {
-        mesh.colors[r] = colors_[v];
-      }
+      mesh.colors[r] = colors_[v];
       if (!classes_.empty()) mesh.classes[r] = classes_[v];
     }
     return mesh;

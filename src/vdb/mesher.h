@@ -2,10 +2,9 @@
 // Marching cubes on the scene's TSDF: the surface where it was observed, with colors and classes.
 #include "core/mesh.h"
 #include "vdb/scene.h"
+#include "vdb/vertex_color.h"
 
 namespace vf {
-
-enum class MeshColorMode { kRgb, kClass };
 
 struct MeshOptions {
   // Voxels observed fewer times than this are treated as unobserved (no surface through them).
@@ -16,7 +15,7 @@ struct MeshOptions {
 // One vertex per sign change of the TSDF along a voxel edge whose two voxels are both observed;
 // a cube is triangulated only when all eight of its voxels are observed, so nothing is invented
 // across unobserved space. Vertices shared between cubes are shared in the mesh (watertight
-// where observed). Colors: trilinear (along the edge) from `color`, linear -> sRGB 8 bit, or the
+// where observed). Colors (vdb/vertex_color.h): interpolated along the edge from `color`, or the
 // class table's color; classes: the nearer voxel's class (when the scene has classes).
 TriangleMesh meshScene(const Scene& scene, const MeshOptions& options = {});
 

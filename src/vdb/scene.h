@@ -8,6 +8,7 @@
 
 #include "core/brick_volume.h"
 #include "core/class_table.h"
+#include "core/intrinsics.h"
 
 namespace vf {
 
@@ -21,6 +22,14 @@ struct SceneMetadata {
   std::string source;             // e.g. the input folder or capture file
   int frame_count = 0;            // frames fused
   std::string software_version;   // empty = this build's VDBFUSE_VERSION_STRING when written
+  // Where "up" (against gravity) and the horizontal heading lie, as unit vectors in the scene's
+  // own (fusion world) coordinates, and how up was found (vdb/scene_frame.h: "recorded poses",
+  // "floor plane", "camera up-vectors"); zero / empty when not known. The grids stay in the
+  // fusion world; exporters rotate by these, so every export maps back to the scene.
+  Vec3f up_world{0, 0, 0};
+  Vec3f forward_world{0, 0, 0};
+  std::string up_source;
+  Intrinsics depth_intrinsics;    // of the fused frames (frame cameras' field of view); fx = 0: unknown
 };
 
 // Grid names in the file (DESIGN.md table).

@@ -4,10 +4,14 @@
 #include <tbb/parallel_for.h>
 
 #include <atomic>
+#include <cstdint>
 #include <cmath>
+#include <memory>
 #include <numeric>
 
 #include "core/error.h"
+#include "vdb/mesh_ops.h"
+#include "vdb/mesher.h"
 #include "vdb/scene_grids.h"
 
 namespace vf {
@@ -36,6 +40,73 @@ openvdb::MaskGrid::Ptr maskWhere(const SceneGrids& g, Pred pred) {
   for (auto* m : out)
     if (m) mask->tree().addLeaf(m);
   return mask;
+}
+
+// The voxels at both ends of the edge each vertex with marked[v] == want lies on (a vertex
+// exactly on a voxel: that voxel), from its position in index space: the voxels the surface
+// passes between.
+openvdb::MaskGrid::Ptr edgeVoxels(const SceneGrids& g, const TriangleMesh& mesh, const std::vector<bool>& marked,
+                                  bool want) {
+  auto mask = openvdb::MaskGrid::create();
+  openvdb::tree::ValueAccessor<openvdb::MaskTree> acc(mask->tree());
+  const openvdb::math::Transform& xform = g.tsdf->transform();
+  for (size_t v = 0; v < mesh.positions.size(); ++v) {
+    if (marked[v] != want) continue;
+    const Vec3f& p = mesh.positions[v];
+    const openvdb::Vec3d x = xform.worldToIndex(openvdb::Vec3d(p.x, p.y, p.z));
+    int lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+      const double r = std::round(x[a]);
+      const bool on_voxel = std::fabs(x[a] - r) < 1e-3;
+      lo[a] = on_voxel ? int(r) : int(std::floor(x[a]));
+      hi[a] = on_voxel ? int(r) : lo[a] + 1;
+    }
+    for (int i = lo[0]; i <= hi[0]; ++i)
+      for (int j = lo[1]; j <= hi[1]; ++j)
+        for (int k = lo[2]; k <= hi[2]; ++k) acc.setValueOn(openvdb::Coord(i, j, k));
+  }
+  return mask;
+}
+
+// Face-connected parts of the active band: every voxel numbered through an Int32 tree of the
+// tsdf's topology, then union-find over the numbers; parent[number] ends as the part's root.
+struct VoxelComponents {
+  std::unique_ptr<openvdb::Int32Tree> ids;
+  std::vector<openvdb::Int32Tree::LeafNodeType*> leaves;
+  std::vector<int32_t> parent;
+  int32_t root(int32_t v) {
+    while (parent[size_t(v)] != v) v = parent[size_t(v)] = parent[size_t(parent[size_t(v)])];
+    return v;
+  }
+};
+
+VoxelComponents voxelComponents(const SceneGrids& g) {
+  VoxelComponents c;
+  c.ids = std::make_unique<openvdb::Int32Tree>(g.tsdf->tree(), -1, openvdb::TopologyCopy());
+  c.ids->getNodes(c.leaves);
+  std::vector<int32_t> base(c.leaves.size() + 1, 0);
+  for (size_t n = 0; n < c.leaves.size(); ++n) base[n + 1] = base[n] + int32_t(c.leaves[n]->onVoxelCount());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, c.leaves.size()), [&](const auto& r) {
+    for (size_t n = r.begin(); n != r.end(); ++n) {
+      int32_t next = base[n];
+      for (auto it = c.leaves[n]->beginValueOn(); it; ++it) it.setValue(next++);
+    }
+  });
+  c.parent.resize(size_t(base.back()));
+  std::iota(c.parent.begin(), c.parent.end(), 0);
+  openvdb::tree::ValueAccessor<const openvdb::Int32Tree> acc(*c.ids);
+  for (const auto* leaf : c.leaves)
+    for (auto it = leaf->cbeginValueOn(); it; ++it)
+      for (int a = 0; a < 3; ++a) {
+        openvdb::Coord nb = it.getCoord();
+        nb[a] += 1;
+        int32_t other;
+        if (!acc.probeValue(nb, other)) continue;
+        const int32_t x = c.root(*it), y = c.root(other);
+        if (x != y) c.parent[size_t(std::max(x, y))] = std::min(x, y);
+      }
+  for (int32_t v = 0; v < int32_t(c.parent.size()); ++v) c.parent[size_t(v)] = c.root(v);
+  return c;
 }
 
 }  // namespace
@@ -73,54 +144,47 @@ OutlierReport removeOutliers(Scene& scene, const OutlierOptions& options) {
     });
     report.weak_voxels = removeMaskedVoxels(g, *mask);
   }
-  if (options.min_component_voxels <= 1) return report;
+  if (options.min_component_triangles <= 1) return report;
 
-  // Face-connected components of the active band: number the voxels through an Int32 tree of
-  // the same topology, then union-find.
-  openvdb::Int32Tree ids(g.tsdf->tree(), -1, openvdb::TopologyCopy());
-  std::vector<openvdb::Int32Tree::LeafNodeType*> leaves;
-  ids.getNodes(leaves);
-  std::vector<int32_t> base(leaves.size() + 1, 0);
-  for (size_t n = 0; n < leaves.size(); ++n) base[n + 1] = base[n] + int32_t(leaves[n]->onVoxelCount());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, leaves.size()), [&](const auto& r) {
-    for (size_t n = r.begin(); n != r.end(); ++n) {
-      int32_t next = base[n];
-      for (auto it = leaves[n]->beginValueOn(); it; ++it) it.setValue(next++);
-    }
-  });
-  std::vector<int32_t> parent(size_t(base.back()));
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](int32_t v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-  };
-  openvdb::tree::ValueAccessor<const openvdb::Int32Tree> acc(ids);
-  for (auto* leaf : leaves)
-    for (auto it = leaf->cbeginValueOn(); it; ++it)
-      for (int a = 0; a < 3; ++a) {
-        openvdb::Coord nb = it.getCoord();
-        nb[a] += 1;
-        int32_t other;
-        if (!acc.probeValue(nb, other)) continue;
-        const int32_t x = find(*it), y = find(other);
-        if (x != y) parent[std::max(x, y)] = std::min(x, y);
-      }
-  std::vector<int32_t> size(parent.size(), 0);
-  for (int32_t v = 0; v < int32_t(parent.size()); ++v) ++size[find(v)];
-  for (int32_t v = 0; v < int32_t(parent.size()); ++v) {
-    if (parent[v] != v) continue;
-    if (size_t(size[v]) < options.min_component_voxels) {
-      ++report.components_removed;
-      report.component_voxels += size_t(size[v]);
-    } else {
-      ++report.components_kept;
-    }
+  TriangleMesh mesh;
+  size_t last_small = SIZE_MAX;
+  for (;;) {
+    mesh = meshScene(scene);
+    const std::vector<size_t> sizes = faceComponentSizes(mesh);
+    const ComponentStats stats = meshComponents(mesh, options.min_component_triangles);
+    if (report.passes == 0) report.pieces_before = stats.pieces, report.small_pieces_before = stats.small;
+    report.pieces_after = stats.pieces;
+    report.small_pieces_after = stats.small;
+    if (stats.small == 0 || report.passes >= options.max_passes) break;
+    // Marching cubes made each face from a cube whose eight voxels were all observed, with its
+    // vertices on the cube's edges: without an edge's voxels the cube, and the face, are gone.
+    // A voxel may end edges of a small piece and of a kept one: keep it, so that the kept
+    // surface loses as little as it can, unless that made no progress last pass.
+    std::vector<bool> small(mesh.positions.size(), false);
+    for (size_t f = 0; f < mesh.triangles.size(); ++f)
+      if (sizes[f] < options.min_component_triangles)
+        for (int32_t v : mesh.triangles[f]) small[size_t(v)] = true;
+    openvdb::MaskGrid::Ptr cut = edgeVoxels(g, mesh, small, true);
+    if (stats.small < last_small) cut->tree().topologyDifference(edgeVoxels(g, mesh, small, false)->tree());
+    last_small = stats.small;
+    report.piece_voxels += removeMaskedVoxels(g, *cut);
+    ++report.passes;
   }
-  if (report.components_removed == 0) return report;
-  auto mask = maskWhere(g, [&](const openvdb::Coord& ijk, const FloatLeaf&, openvdb::Index) {
-    return size_t(size[find(ids.getValue(ijk))]) < options.min_component_voxels;
+  // What is left of a removed piece's band (voxels away from its surface) is fog without a
+  // surface: it would still show in a volume export. Drop every face-connected part of the band
+  // that no surface vertex lies on.
+  auto surface = edgeVoxels(g, mesh, std::vector<bool>(mesh.positions.size(), true), true);
+  openvdb::tree::ValueAccessor<const openvdb::MaskTree> sacc(surface->tree());
+  const VoxelComponents parts = voxelComponents(g);
+  std::vector<bool> has_surface(parts.parent.size(), false);
+  for (const auto* leaf : parts.leaves)
+    for (auto it = leaf->cbeginValueOn(); it; ++it)
+      if (sacc.isValueOn(it.getCoord())) has_surface[size_t(parts.parent[size_t(*it)])] = true;
+  // (maskWhere runs in parallel: plain tree reads, no accessor.)
+  auto bare = maskWhere(g, [&](const openvdb::Coord& ijk, const FloatLeaf&, openvdb::Index) {
+    return !has_surface[size_t(parts.parent[size_t(parts.ids->getValue(ijk))])];
   });
-  removeMaskedVoxels(g, *mask);
+  report.bare_band_voxels = removeMaskedVoxels(g, *bare);
   return report;
 }
 

@@ -15,15 +15,26 @@ size_t excludeClassVoxels(Scene& scene, const std::set<int>& ids);
 // Keeps only voxels whose centre lies inside [min_m, max_m]; returns tsdf voxels removed.
 size_t cropToBox(Scene& scene, Vec3f min_m, Vec3f max_m);
 
+// Outlier removal, in two named parts:
+// - weakly observed voxels: weight below `min_weight` (0 keeps all);
+// - small pieces: connected pieces of the surface (as `mesh` cuts it, faces sharing a vertex)
+//   with fewer than `min_component_triangles` faces. Their voxels are deactivated, the scene
+//   is meshed again, and so on until no piece is under the threshold (cutting a piece's voxels
+//   can split a neighbour), at most `max_passes` times. So `mesh --min-component N` on the result
+//   finds nothing to remove (at --min-weight 0). Then the parts of the band (face-connected
+//   voxels) that no surface passes through any more go too: fog without a surface.
 struct OutlierOptions {
-  float min_weight = 0.f;             // voxels observed fewer times are dropped (0 = keep all)
-  size_t min_component_voxels = 0;    // face-connected pieces of the band smaller than this go
+  float min_weight = 0.f;
+  size_t min_component_triangles = 0;
+  int max_passes = 8;
 };
 struct OutlierReport {
   size_t weak_voxels = 0;
-  size_t components_removed = 0;
-  size_t component_voxels = 0;
-  size_t components_kept = 0;
+  size_t pieces_before = 0, small_pieces_before = 0;  // the surface before the piece filter
+  size_t piece_voxels = 0;                            // voxels removed with the small pieces
+  size_t pieces_after = 0, small_pieces_after = 0;    // small_pieces_after is 0 unless max_passes ran out
+  size_t bare_band_voxels = 0;                        // band left without a surface, removed
+  int passes = 0;
 };
 OutlierReport removeOutliers(Scene& scene, const OutlierOptions& options);
 

@@ -3,6 +3,7 @@
 #include <openvdb/io/File.h>
 #include <openvdb/tools/LevelSetUtil.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.h"
@@ -10,19 +11,37 @@
 
 namespace vf {
 
-void writeBlenderVolume(const Scene& scene, const std::string& path) {
+BlenderVolumeInfo writeBlenderVolume(const Scene& scene, const std::string& path, const Rigid3f& to_file) {
   ensureOpenVdbInitialized();
   const SceneGrids& g = scene.grids();
+  BlenderVolumeInfo info;
+  info.band_m = g.tsdf->background();
   openvdb::FloatGrid::Ptr density = g.tsdf->deepCopy();
   openvdb::tools::sdfToFogVolume(*density);
   density->setName("density");
+  bool first = true;
+  for (auto it = density->cbeginValueOn(); it; ++it) {
+    info.density_min = first ? *it : std::min(info.density_min, *it);
+    info.density_max = first ? *it : std::max(info.density_max, *it);
+    first = false;
+  }
+  // OpenVDB maps row vectors (p' = p M): the rotation enters transposed.
+  openvdb::Mat4d m = openvdb::Mat4d::identity();
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) m(j, i) = double(to_file.r[i * 3 + j]);
+  m.setTranslation(openvdb::Vec3d(to_file.t.x, to_file.t.y, to_file.t.z));
+  openvdb::math::Transform::Ptr xform = g.tsdf->transform().copy();
+  xform->postMult(m);
+  density->setTransform(xform);
   openvdb::GridPtrVec grids{density};
   if (g.color) {
     openvdb::Vec3SGrid::Ptr color = g.color->deepCopy();
     color->setName("color");
+    color->setTransform(xform->copy());
     grids.push_back(color);
   }
   writeVdbFileAtomic(path, grids, openvdb::MetaMap(), "Blender volume");
+  return info;
 }
 
 std::vector<std::string> vdbGridNames(const std::string& path) {
@@ -77,20 +96,12 @@ TriangleMesh scenePointCloud(const Scene& scene, const MeshOptions& options) {
     cloud.normals.push_back({float(nrm.x()), float(nrm.y()), float(nrm.z())});
     const int cls = g.class_id ? g.class_id->tree().getValue(ijk) : kSceneUnknownClass;
     if (g.class_id) cloud.classes.push_back(cls);
-    Rgb8 col{200, 200, 200, 255};
-    if (options.color == MeshColorMode::kClass) {
-      const ClassInfo* info = scene.meta.classes.findId(cls);
-      col = info ? info->color : Rgb8{128, 128, 128, 255};
-    } else if (g.color) {
+    Vec3f linear{0, 0, 0};
+    if (g.color) {
       const openvdb::Vec3s c = g.color->tree().getValue(ijk);
-      auto srgb = [](float x) {
-        x = std::clamp(x, 0.f, 1.f);
-        const float s = x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.f / 2.4f) - 0.055f;
-        return uint8_t(std::lround(s * 255.f));
-      };
-      col = {srgb(c.x()), srgb(c.y()), srgb(c.z()), 255};
+      linear = {c.x(), c.y(), c.z()};
     }
-    cloud.colors.push_back(col);
+    cloud.colors.push_back(surfaceColor(options.color, scene.meta.classes, cls, g.color ? &linear : nullptr));
   }
   return cloud;
 }

@@ -2,6 +2,7 @@
 // other tools (Blender, Houdini) show them without clashing with their own.
 #include <openvdb/io/File.h>
 
+#include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
@@ -23,6 +24,52 @@ constexpr const char* kMetaClasses = "vdbfuse_classes";
 constexpr const char* kMetaSource = "vdbfuse_source";
 constexpr const char* kMetaFrameCount = "vdbfuse_frame_count";
 constexpr const char* kMetaVersion = "vdbfuse_software_version";
+constexpr const char* kMetaUp = "vdbfuse_up";
+constexpr const char* kMetaForward = "vdbfuse_forward";
+constexpr const char* kMetaUpSource = "vdbfuse_up_source";
+constexpr const char* kMetaIntrinsics = "vdbfuse_depth_fx_fy_cx_cy";
+constexpr const char* kMetaImageSize = "vdbfuse_depth_width_height";
+
+// Up, heading and camera: written only when known, checked when read (a file is outside data).
+void writeFrameMeta(const SceneMetadata& m, openvdb::MetaMap& meta) {
+  if (norm(m.up_world) > 0) {
+    meta.insertMeta(kMetaUp, openvdb::Vec3SMetadata({m.up_world.x, m.up_world.y, m.up_world.z}));
+    meta.insertMeta(kMetaForward, openvdb::Vec3SMetadata({m.forward_world.x, m.forward_world.y, m.forward_world.z}));
+    meta.insertMeta(kMetaUpSource, openvdb::StringMetadata(m.up_source));
+  }
+  const Intrinsics& k = m.depth_intrinsics;
+  if (k.valid()) {
+    meta.insertMeta(kMetaIntrinsics, openvdb::Vec4SMetadata({k.fx, k.fy, k.cx, k.cy}));
+    meta.insertMeta(kMetaImageSize, openvdb::Vec2IMetadata({k.width, k.height}));
+  }
+}
+
+void readFrameMeta(const openvdb::MetaMap& meta, SceneMetadata& m, const std::string& path) {
+  auto unitVector = [&](const char* key) {
+    const auto v = meta.getMetadata<openvdb::Vec3SMetadata>(key);
+    if (!v) throw Error(path + ": metadata '" + kMetaUp + "' without '" + key + "'");
+    const Vec3f u{v->value().x(), v->value().y(), v->value().z()};
+    if (!isFinite(u) || std::fabs(norm(u) - 1.f) > 1e-3f)
+      throw Error(path + ": metadata '" + key + "' is not a unit vector");
+    return u;
+  };
+  if (meta.getMetadata<openvdb::Vec3SMetadata>(kMetaUp)) {
+    m.up_world = unitVector(kMetaUp);
+    m.forward_world = unitVector(kMetaForward);
+    if (std::fabs(dot(m.up_world, m.forward_world)) > 1e-3f)
+      throw Error(path + ": metadata '" + kMetaForward + "' is not perpendicular to '" + kMetaUp + "'");
+    if (auto v = meta.getMetadata<openvdb::StringMetadata>(kMetaUpSource)) m.up_source = v->value();
+  }
+  const auto k = meta.getMetadata<openvdb::Vec4SMetadata>(kMetaIntrinsics);
+  const auto size = meta.getMetadata<openvdb::Vec2IMetadata>(kMetaImageSize);
+  if (k && size) {
+    Intrinsics& in = m.depth_intrinsics;
+    in = {k->value()[0], k->value()[1], k->value()[2], k->value()[3], size->value()[0], size->value()[1]};
+    if (!std::isfinite(in.cx) || !std::isfinite(in.cy) || !(in.fx > 0 && in.fx < 1e6f) || !(in.fy > 0 && in.fy < 1e6f) ||
+        in.width <= 0 || in.height <= 0 || in.width > 100000 || in.height > 100000)
+      throw Error(path + ": metadata '" + kMetaIntrinsics + "' / '" + kMetaImageSize + "' is not a camera");
+  }
+}
 
 std::string classesToJson(const ClassTable& table) {
   nlohmann::json arr = nlohmann::json::array();
@@ -84,6 +131,7 @@ void writeScene(const Scene& scene, const std::string& path) {
   meta.insertMeta(kMetaVersion, openvdb::StringMetadata(scene.meta.software_version.empty()
                                                             ? std::string(VDBFUSE_VERSION_STRING)
                                                             : scene.meta.software_version));
+  writeFrameMeta(scene.meta, meta);
 
   writeVdbFileAtomic(path, grids, meta, "scene");
 }
@@ -146,6 +194,7 @@ Scene readScene(const std::string& path) {
   if (auto v = meta->getMetadata<openvdb::StringMetadata>(kMetaSource)) m.source = v->value();
   if (auto v = meta->getMetadata<openvdb::Int32Metadata>(kMetaFrameCount)) m.frame_count = v->value();
   if (auto v = meta->getMetadata<openvdb::StringMetadata>(kMetaVersion)) m.software_version = v->value();
+  readFrameMeta(*meta, m, path);
   return scene;
 }
 

@@ -120,14 +120,19 @@ TEST(EditorOnRealData, OutlierRemovalDropsInjectedBlobsAndKeepsTheFusedSurface) 
   ASSERT_GT(noisy_faces, clean_faces + 100) << "the blobs should add surface";
 
   // The real scene has small noise fragments of its own, which the same removal also drops:
-  // with the blobs it must remove exactly three pieces more and end with the same surface.
+  // with the blobs it must remove exactly three pieces more and end with the same surface, with
+  // no piece under the threshold left (what `mesh --min-component` would still cut).
   OutlierOptions options;
-  options.min_component_voxels = 5000;
+  options.min_component_triangles = 500;
   Scene clean_filtered = clean.clone();
   const OutlierReport clean_report = removeOutliers(clean_filtered, options);
   const OutlierReport report = removeOutliers(noisy, options);
-  EXPECT_EQ(report.components_removed, clean_report.components_removed + 3);
-  EXPECT_EQ(report.components_kept, clean_report.components_kept);
+  EXPECT_GT(clean_report.small_pieces_before, 0u) << "the fused scene should have fragments of its own";
+  EXPECT_EQ(report.small_pieces_before, clean_report.small_pieces_before + 3);
+  EXPECT_EQ(report.small_pieces_after, 0u);
+  EXPECT_EQ(clean_report.small_pieces_after, 0u);
+  EXPECT_EQ(meshComponents(meshScene(noisy), 500).small, 0u);
+  EXPECT_EQ(report.pieces_after, clean_report.pieces_after);
   EXPECT_EQ(noisy.activeVoxelCount(), clean_filtered.activeVoxelCount());
   const size_t kept_faces = meshScene(noisy).triangleCount();
   EXPECT_EQ(kept_faces, meshScene(clean_filtered).triangleCount());

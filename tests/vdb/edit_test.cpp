@@ -68,11 +68,18 @@ TEST(SceneEdit, OutlierRemovalDeletesFloatingBlobsAndKeepsTheSurface) {
   Scene scene = sphereScene(true);
   ASSERT_GT(meshScene(scene).triangleCount(), clean.triangleCount() + 300);
   OutlierOptions options;
-  options.min_component_voxels = 5000;
+  options.min_component_triangles = 500;
   const OutlierReport r = removeOutliers(scene, options);
-  EXPECT_EQ(r.components_removed, 3u);
-  EXPECT_EQ(r.components_kept, 1u);
+  EXPECT_EQ(r.pieces_before, 4u);
+  EXPECT_EQ(r.small_pieces_before, 3u);
+  EXPECT_EQ(r.pieces_after, 1u);
+  EXPECT_EQ(r.small_pieces_after, 0u);
+  EXPECT_EQ(r.passes, 1);
+  // The blobs' whole band goes, not only their surface: nothing of them is left for a volume.
+  EXPECT_EQ(scene.activeVoxelCount(), sphereScene(false).activeVoxelCount());
+  EXPECT_GT(r.bare_band_voxels, 0u);
   const TriangleMesh after = meshScene(scene);
+  EXPECT_EQ(meshComponents(after, 500).small, 0u);
   EXPECT_NEAR(double(after.triangleCount()), double(clean.triangleCount()), 0.01 * clean.triangleCount());
   for (const Vec3f& p : after.positions) EXPECT_NEAR(norm(p), kRadius, kVoxel);
 }

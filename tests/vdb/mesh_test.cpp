@@ -5,10 +5,18 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
-#include <cmath>
-#include <filesystem>
-#include <map>
+#include <nlohmann/json.hpp>
 
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <set>
+
+#include "core/color.h"
 #include "core/error.h"
 #include "io/mesh_io.h"
 #include "synthetic_scene.h"
@@ -129,9 +137,14 @@ TEST(MeshOps, MinComponentDropsSmallPieces) {
   const Scene scene = sceneFromBricks(volume.view(), {});
   TriangleMesh mesh = meshScene(scene);
   const size_t before = mesh.triangleCount();
+  const ComponentStats stats = meshComponents(mesh, 2000);
+  EXPECT_EQ(stats.pieces, 2u);
+  EXPECT_EQ(stats.small, 1u);
   const size_t removed = removeSmallComponents(mesh, 2000);
   EXPECT_GT(removed, 100u);
+  EXPECT_EQ(removed, stats.small_triangles);
   EXPECT_EQ(mesh.triangleCount(), before - removed);
+  EXPECT_EQ(meshComponents(mesh, 2000).pieces, 1u);
   for (const Vec3f& p : mesh.positions) EXPECT_NEAR(norm(p), kRadius, kVoxel);
 }
 
@@ -156,7 +169,7 @@ TEST(MeshFiles, PlyObjGlbReimportWithSameCountsAndColors) {
     const aiScene* s = import(importer, path);
     ASSERT_NE(s, nullptr);
     size_t faces = 0, vertices = 0;
-    std::map<std::tuple<int, int, int>, Rgb8> colors;
+    std::map<std::tuple<int, int, int>, aiColor4D> colors;
     for (unsigned m = 0; m < s->mNumMeshes; ++m) {
       const aiMesh* am = s->mMeshes[m];
       faces += am->mNumFaces;
@@ -165,8 +178,7 @@ TEST(MeshFiles, PlyObjGlbReimportWithSameCountsAndColors) {
       for (unsigned v = 0; v < am->mNumVertices; ++v) {
         const aiVector3D p = am->mVertices[v];
         const aiColor4D c = am->mColors[0][v];
-        colors[{int(std::lround(p.x * 1e4)), int(std::lround(p.y * 1e4)), int(std::lround(p.z * 1e4))}] =
-            Rgb8{uint8_t(std::lround(c.r * 255)), uint8_t(std::lround(c.g * 255)), uint8_t(std::lround(c.b * 255)), 255};
+        colors[{int(std::lround(p.x * 1e4)), int(std::lround(p.y * 1e4)), int(std::lround(p.z * 1e4))}] = c;
       }
     }
     EXPECT_EQ(faces, mesh.triangleCount()) << name;
@@ -181,8 +193,11 @@ TEST(MeshFiles, PlyObjGlbReimportWithSameCountsAndColors) {
       const Vec3f p = mesh.positions[v];
       auto it = colors.find({int(std::lround(p.x * 1e4)), int(std::lround(p.y * 1e4)), int(std::lround(p.z * 1e4))});
       if (it == colors.end()) continue;
-      EXPECT_NEAR(it->second.r, mesh.colors[v].r, 1) << name;
-      EXPECT_NEAR(it->second.g, mesh.colors[v].g, 1) << name;
+      // PLY and OBJ vertex colours are sRGB; glTF's COLOR_0 is linear.
+      const bool linear = std::string(name) == "m.glb";
+      const Rgb8 want = mesh.colors[v];
+      EXPECT_NEAR(it->second.r, linear ? srgb8ToLinear(want.r) : want.r / 255.f, 0.5f / 255) << name;
+      EXPECT_NEAR(it->second.g, linear ? srgb8ToLinear(want.g) : want.g / 255.f, 0.5f / 255) << name;
       ++checked;
     }
     EXPECT_GT(checked, mesh.vertexCount() / 97 / 2) << name;
@@ -195,6 +210,75 @@ TEST(MeshFiles, PlyObjGlbReimportWithSameCountsAndColors) {
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir), std::filesystem::directory_iterator()), 4)
       << "m.ply, m.obj, m.mtl, m.glb and no temp files";
   EXPECT_THROW(writeMesh(mesh, dir + "/m.stl"), Error);
+}
+
+// The JSON chunk of a .glb (header 12 bytes, then chunk length, type "JSON", text).
+nlohmann::json glbJson(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_GT(bytes.size(), 20u) << path;
+  uint32_t length = 0;
+  std::memcpy(&length, bytes.data() + 12, 4);
+  return nlohmann::json::parse(bytes.substr(20, length));
+}
+
+// glTF's defaults: baseColorFactor [1, 1, 1, 1], metallicFactor 1, roughnessFactor 1.
+std::array<float, 3> baseColor(const nlohmann::json& material) {
+  const auto pbr = material.value("pbrMetallicRoughness", nlohmann::json::object());
+  const auto c = pbr.value("baseColorFactor", nlohmann::json::array({1.0, 1.0, 1.0, 1.0}));
+  return {c[0].get<float>(), c[1].get<float>(), c[2].get<float>()};
+}
+
+// Blender's glTF importer multiplies COLOR_0 by the base colour and its OBJ importer uses Kd alone:
+// a class colour there painted the fused colours over (black for class 0, "background").
+TEST(MeshFiles, MaterialsCarryNoClassColourWhereVertexColoursAre) {
+  const Scene scene = sphereScene();
+  const TriangleMesh mesh = meshScene(scene);
+  const std::string dir = test::tempDir("mesh_materials");
+  MeshWriteOptions options;
+  options.classes = &scene.meta.classes;
+  writeMesh(mesh, dir + "/rgb.glb", options);
+  writeMesh(mesh, dir + "/rgb.obj", options);
+  const nlohmann::json rgb = glbJson(dir + "/rgb.glb");
+  ASSERT_EQ(rgb["materials"].size(), 2u);
+  for (const auto& m : rgb["materials"]) {
+    EXPECT_EQ(baseColor(m), (std::array<float, 3>{1, 1, 1})) << m;
+    EXPECT_EQ(m["pbrMetallicRoughness"].value("metallicFactor", 1.0), 0.0) << "a scan is no metal: " << m;
+    EXPECT_EQ(m["pbrMetallicRoughness"].value("roughnessFactor", 1.0), 1.0) << m;
+  }
+  for (const auto& mesh : rgb["meshes"])
+    for (const auto& prim : mesh["primitives"]) EXPECT_TRUE(prim["attributes"].contains("COLOR_0"));
+  // OBJ: each group's Kd is its mean colour (linear), close to neither class colour.
+  std::ifstream mtl(dir + "/rgb.mtl");
+  std::string word;
+  std::vector<Vec3f> kd;
+  while (mtl >> word)
+    if (word == "Kd") {
+      Vec3f c;
+      mtl >> c.x >> c.y >> c.z;
+      kd.push_back(c);
+    }
+  ASSERT_EQ(kd.size(), 2u);
+  for (const Vec3f& c : kd) {
+    // The sphere's fused colours: kColorLeft / kColorRight on the two halves (one per class).
+    const Vec3f left = srgb8ToLinear(test::kColorLeft), right = srgb8ToLinear(test::kColorRight);
+    EXPECT_LT(std::min(norm(c - left), norm(c - right)), 0.05f) << c.x << " " << c.y << " " << c.z;
+  }
+
+  // --color class: the class colour goes into the material, linear, and COLOR_0 stays out.
+  MeshOptions by_class;
+  by_class.color = MeshColorMode::kClass;
+  options.class_colors = true;
+  writeMesh(meshScene(scene, by_class), dir + "/class.glb", options);
+  const nlohmann::json cls = glbJson(dir + "/class.glb");
+  for (const auto& mesh : cls["meshes"])
+    for (const auto& prim : mesh["primitives"]) EXPECT_FALSE(prim["attributes"].contains("COLOR_0"));
+  std::set<std::array<float, 3>> bases;
+  for (const auto& m : cls["materials"]) bases.insert(baseColor(m));
+  for (const ClassInfo& c : scene.meta.classes.classes) {
+    const Vec3f lin = srgb8ToLinear(c.color);
+    EXPECT_EQ(bases.count({lin.x, lin.y, lin.z}), 1u) << c.name;
+  }
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 #include "viewer/scene_content.h"
 #include "viewer/slice.h"
 #include "viewer/view_options.h"
+#include "viewer/view_style.h"
 #include "viewer_scenes.h"
 
 namespace vf::viewer {
@@ -45,6 +46,43 @@ TEST(ViewOptions, ParsesSliceCameraAndSize) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("WIDTHxHEIGHT"), std::string::npos) << e.what();
   }
+}
+
+TEST(ViewOptions, ScreenshotFormatByExtension) {
+  EXPECT_EQ(pictureFormatFromPath("a/b.png"), PictureFormat::kPng);
+  EXPECT_EQ(pictureFormatFromPath("b.JPG"), PictureFormat::kJpeg);
+  EXPECT_EQ(pictureFormatFromPath("b.jpeg"), PictureFormat::kJpeg);
+  const std::string error = test::errorOf([] { pictureFormatFromPath("shot.bmp"); });
+  EXPECT_NE(error.find("shot.bmp"), std::string::npos) << error;
+  EXPECT_NE(error.find(".jpg"), std::string::npos) << error;
+  EXPECT_THROW(pictureFormatFromPath("shot"), Error);
+}
+
+TEST(ViewOptions, FrameCameraFromTheScenesIntrinsics) {
+  // Record3D depth (192 x 256, f = 191.2): a tall image, 67.6 degrees high.
+  const FrameCamera phone = frameCamera({191.2f, 191.2f, 95.8f, 129.4f, 192, 256});
+  EXPECT_NEAR(phone.fov_y_deg, 2 * std::atan(128.0 / 191.2) * 180 / M_PI, 1e-6);
+  EXPECT_NEAR(phone.aspect, 0.75, 1e-6);
+  // Unknown: the Kinect the viewer assumed before scenes recorded their camera.
+  const FrameCamera unknown = frameCamera(Intrinsics{});
+  EXPECT_EQ(unknown.fov_y_deg, kTrajectoryFovYDeg);
+  EXPECT_NEAR(unknown.aspect, 4.0 / 3.0, 1e-9);
+}
+
+TEST(SceneContent, DarkClassColoursAreLightenedForTheBackdrop) {
+  auto luma = [](Rgb8 c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; };
+  const Rgb8 black = visibleOnBackdrop({0, 0, 0, 255});
+  EXPECT_NEAR(luma(black), kMinClassLuma, 1.0);
+  EXPECT_EQ(black.r, black.b);  // grey stays grey
+  const Rgb8 navy = visibleOnBackdrop({0, 0, 128, 255});
+  EXPECT_NEAR(luma(navy), kMinClassLuma, 1.0);
+  EXPECT_GT(navy.b, navy.r + 50);  // still blue
+  const Rgb8 yellow{230, 200, 40, 255};
+  EXPECT_EQ(visibleOnBackdrop(yellow).r, yellow.r);  // bright colours are kept as they are
+  EXPECT_EQ(visibleOnBackdrop(yellow).b, yellow.b);
+  ClassTable table;
+  table.classes = {{0, "background", {0, 0, 0, 255}}};
+  EXPECT_GE(luma(classColor(table, 0)), kMinClassLuma - 1);
 }
 
 TEST(ViewOptions, FilesBesideTheScene) {

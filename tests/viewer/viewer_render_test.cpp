@@ -227,6 +227,65 @@ TEST_F(ViewerRender, SceneWithoutClassesFallsBackToRgbWithANotice) {
   EXPECT_NE(hide.output.find("no class grid"), std::string::npos) << hide.output;
 }
 
+TEST_F(ViewerRender, JpegScreenshotIsAJpegAndOtherExtensionsAreRefused) {
+  const cv::Mat png = render("as_png", "--no-trajectory");
+  const std::string jpg = dir_ + "/as_jpg.jpg";
+  RunResult r = view(scene_ + " --screenshot " + jpg + " --size 640x360 --no-trajectory");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream in(jpg, std::ios::binary);
+  unsigned char magic[3] = {0, 0, 0};
+  in.read(reinterpret_cast<char*>(magic), 3);
+  EXPECT_TRUE(magic[0] == 0xFF && magic[1] == 0xD8 && magic[2] == 0xFF) << "JPEG files start FF D8 FF";
+  const cv::Mat img = cv::imread(jpg);
+  ASSERT_FALSE(img.empty() || png.empty());
+  cv::Mat diff;
+  cv::absdiff(img, png, diff);
+  EXPECT_LT(cv::mean(diff)[1], 4.0) << "the same picture, up to JPEG's loss";
+  r = view(scene_ + " --screenshot " + dir_ + "/shot.bmp");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find(".png, .jpg or .jpeg"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir_ + "/shot.bmp"));
+}
+
+TEST_F(ViewerRender, BlackClassColourStaysVisibleOnTheDarkBackdrop) {
+  // The palette gives class 0 ("background") black; drawn black it vanished into the backdrop.
+  Scene scene = test::ballOnFloorScene(true);
+  scene.meta.classes.classes[0].color = {0, 0, 0, 255};
+  scene.meta.classes.classes[1].color = {0, 0, 0, 255};
+  writeScene(scene, dir_ + "/black.vdb");
+  const cv::Mat img = render("black_classes", "--no-trajectory --color class", dir_ + "/black.vdb");
+  ASSERT_FALSE(img.empty());
+  const size_t surface = countNonBackground(img);
+  EXPECT_GT(surface, size_t(0.15 * kW * kH));
+  size_t dark = 0;
+  for (int y = 0; y < img.rows; ++y)
+    for (int x = 0; x < img.cols; ++x) {
+      const cv::Vec3b p = img.at<cv::Vec3b>(y, x);
+      dark += std::max({p[0], p[1], p[2]}) < 30;  // darker than any part of the backdrop
+    }
+  EXPECT_LT(dark, surface / 20) << "class surfaces drawn (nearly) black";
+}
+
+TEST_F(ViewerRender, TrajectoryCameraUsesTheScenesFieldOfView) {
+  // The same ball seen from pose 4 through a 30-degree and a 60-degree camera: the narrow one
+  // fills more of the picture.
+  const std::string dir = dir_ + "/fov";
+  fs::create_directories(dir);
+  auto write = [&](const std::string& stem, double fov_y_deg) {
+    Scene scene = test::ballOnFloorScene(false);
+    const float fy = float(240.0 / std::tan(0.5 * fov_y_deg * M_PI / 180.0));
+    scene.meta.depth_intrinsics = {fy, fy, 319.5f, 239.5f, 640, 480};
+    writeScene(scene, dir + "/" + stem + ".vdb");
+    writeTumTrajectory(dir + "/" + stem + ".txt", test::arcTrajectory());
+    return dir + "/" + stem + ".vdb";
+  };
+  const cv::Mat narrow = render("fov30", "--camera trajectory:4 --no-trajectory", write("narrow", 30));
+  const cv::Mat wide = render("fov60", "--camera trajectory:4 --no-trajectory", write("wide", 60));
+  ASSERT_FALSE(narrow.empty() || wide.empty());
+  // The ball's apparent size goes with 1 / tan(fov / 2): (tan 30 / tan 15)^2 = 4.6 times the area.
+  EXPECT_GT(double(countNonBackground(narrow)), 2.0 * double(countNonBackground(wide)));
+}
+
 TEST_F(ViewerRender, ErrorsSayWhatIsWrong) {
   const std::string png = dir_ + "/never.png";
   // Empty scene.
@@ -267,6 +326,19 @@ TEST_F(ViewerRender, VdbfuseViewRunsTheViewer) {
   const cv::Mat via = cv::imread(png);
   ASSERT_FALSE(via.empty());
   EXPECT_LE(maxAbsDiff(direct, via), 1);
+}
+
+// `edit` writes the trajectory beside its output, so a recorded camera still works on it.
+TEST_F(ViewerRender, EditedSceneKeepsItsTrajectory) {
+  const std::string edited = dir_ + "/edited.vdb";
+  const RunResult r = runCommand(std::string(VF_VDBFUSE_EXE) + " edit " + scene_ + " -o " + edited +
+                                 " --force --crop-box -1,-1,-1,1,1,1");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  ASSERT_TRUE(fs::exists(dir_ + "/edited.txt")) << r.output;
+  EXPECT_EQ(readTumTrajectory(dir_ + "/edited.txt").size(), test::arcTrajectory().size());
+  const cv::Mat cam = render("edited_cam", "--camera trajectory:4 --no-trajectory", edited);
+  ASSERT_FALSE(cam.empty());
+  EXPECT_EQ(countNonBackground(cam(cv::Rect(kW / 2 - 20, kH / 2 - 20, 40, 40))), 1600u);
 }
 
 // A real capture: ten TUM frames fused at 256^3, shown with its trajectory.
