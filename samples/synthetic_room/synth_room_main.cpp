@@ -9,6 +9,9 @@
 #include <filesystem>
 #include <mutex>
 #include <string>
+#include <system_error>
+
+#include <unistd.h>
 
 #include "core/error.h"
 #include "io/mesh_io.h"
@@ -86,14 +89,37 @@ void generate(const Options& o) {
   const RoomScanSource source(scan);
   const RangeCountingSource counting(source);
 
+  // A new folder is written under a temporary name beside it and renamed when complete, so an
+  // error leaves no half-written scan; an existing one (empty, or with --force) is written in place.
+  fs::path target(o.output);
+  if (!target.has_filename()) target = target.parent_path();  // "room/"
+  const bool fresh = !fs::exists(target);
+  fs::path work = target;
+  if (fresh) {
+    std::error_code ec;
+    if (target.has_parent_path()) fs::create_directories(target.parent_path(), ec);
+    if (ec) throw Error(target.string() + ": cannot create the folder it goes in (" + ec.message() + ")");
+    work = target.parent_path() / ("." + target.filename().string() + ".partial" + std::to_string(::getpid()));
+    fs::remove_all(work, ec);
+  }
   const auto t0 = std::chrono::steady_clock::now();
   TumWriteOptions write;
   write.force = o.force;
-  const TumWriteResult written = writeTumFolder(counting, o.output, write);
-  const double frames_s = secondsSince(t0);
-  const std::string mesh_path = (fs::path(o.output) / "groundtruth_mesh.ply").string();
+  TumWriteResult written;
   const TriangleMesh mesh = groundTruthMesh(source.room());
-  writePly(mesh, mesh_path, false);
+  try {
+    written = writeTumFolder(counting, work.string(), write);
+    writePly(mesh, (work / "groundtruth_mesh.ply").string(), false);
+    std::error_code ec;
+    if (fresh) fs::rename(work, target, ec);
+    if (ec) throw Error(target.string() + ": cannot move the written scan into place (" + ec.message() + ")");
+  } catch (...) {
+    std::error_code ignored;
+    if (fresh) fs::remove_all(work, ignored);
+    throw;
+  }
+  const double frames_s = secondsSince(t0);
+  const std::string mesh_path = (target / "groundtruth_mesh.ply").string();
 
   const PathStats path = pathStats(source.groundTruth());
   const Intrinsics k = source.depthIntrinsics();
@@ -108,7 +134,7 @@ void generate(const Options& o) {
   std::printf("depth        every frame has >= %.1f %% of its pixels at 0.4-4 m (fewest: frame %d)\n",
               100.0 * counting.minShare(), counting.minFrame());
   std::printf("wrote        %s: rgb/ depth/ rgb.txt depth.txt groundtruth.txt (%d poses) camera_intrinsics.txt, in %.1f s\n",
-              o.output.c_str(), written.poses, frames_s);
+              target.string().c_str(), written.poses, frames_s);
   std::printf("wrote        %s (%zu vertices, %zu triangles, the room's frame as groundtruth.txt)\n", mesh_path.c_str(),
               mesh.vertexCount(), mesh.triangleCount());
 }
