@@ -1,6 +1,7 @@
 // The GPU builds of the fusion functors: the same structs the CPU backend runs (src/fusion),
 // instantiated here once each. A functor passed to vf::parallelFor / parallelReduce in
 // src/fusion but missing from this list is an undefined symbol when vdbfuse links.
+#include "fusion/brick_hash.h"
 #include "fusion/icp_kernels.h"
 #include "fusion/integrate_kernels.h"
 #include "fusion/measurement_kernels.h"
@@ -29,12 +30,15 @@ VF_CUDA_FOR(NormalMapKernel)
 VF_CUDA_FOR(IntensityKernel)
 VF_CUDA_FOR(DownsampleIntensityKernel)
 // track (icp_kernels.h, photometric_kernels.h)
-template void parallelReduce<kIcpRowSize, IcpKernel>(int, const IcpKernel&, double*);
-template void parallelReduce<kIcpRowSize, PhotometricKernel>(int, const PhotometricKernel&, double*);
-// integrate (integrate_kernels.h)
+template void parallelReduce<normal_row::kSize, IcpKernel>(int, const IcpKernel&, double*);
+template void parallelReduce<normal_row::kSize, PhotometricKernel>(int, const PhotometricKernel&, double*);
+// integrate (integrate_kernels.h) and the brick hash (brick_hash.h)
 VF_CUDA_FOR(MarkBricksKernel)
-VF_CUDA_FOR(CollectBricksKernel)
+VF_CUDA_FOR(CountNewBricksKernel)
+VF_CUDA_FOR(AssignSlotsKernel)
 VF_CUDA_FOR(IntegrateKernel)
+VF_CUDA_FOR(ClearBrickHashKernel)
+VF_CUDA_FOR(RehashBricksKernel)
 // raycast (raycast_kernels.h)
 VF_CUDA_FOR(ClearRangeKernel)
 VF_CUDA_FOR(BrickRangeKernel)

@@ -97,7 +97,7 @@ void* allocate(size_t bytes) {
     std::string extra;
     if (cudaMemGetInfo(&free_bytes, &total_bytes) == cudaSuccess)
       extra = "; " + std::to_string(free_bytes >> 20) + " of " + std::to_string(total_bytes >> 20) +
-              " MiB free on the GPU (a smaller --volume or voxel count needs less)";
+              " MiB free on the GPU (larger voxels or a shorter depth range need less)";
     (void)cudaGetLastError();
     throw Error(std::string("CUDA ") + call + " failed: " + cudaGetErrorName(status) + " (" +
                 cudaGetErrorString(status) + ")" + extra);

@@ -6,6 +6,7 @@
 #include <set>
 #include <sstream>
 
+#include "core/atomic_output.h"
 #include "core/error.h"
 #include "io/image_io.h"
 

@@ -1,9 +1,6 @@
 #include "io/image_io.h"
 
-#include <unistd.h>
-
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -11,6 +8,8 @@
 #include <opencv2/imgproc.hpp>
 #include <string>
 #include <vector>
+
+#include "core/atomic_output.h"
 
 namespace vf {
 namespace {
@@ -39,30 +38,6 @@ void encodeAndWrite(const std::string& path, const cv::Mat& image) {
 }
 
 }  // namespace
-
-void writeFileAtomic(const std::string& path, const std::string& bytes) {
-  static std::atomic<unsigned> counter{0};
-  const fs::path target(path);
-  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  if (!fs::is_directory(dir)) throw Error("cannot write " + path + ": folder " + dir.string() + " does not exist");
-  const fs::path temp = dir / ("." + target.filename().string() + ".tmp" + std::to_string(getpid()) +
-                               "_" + std::to_string(counter++));
-  std::FILE* f = std::fopen(temp.c_str(), "wb");
-  if (!f) throw Error("cannot write " + path + ": cannot create " + temp.string());
-  const bool ok = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size() &&
-                  std::fflush(f) == 0 && fsync(fileno(f)) == 0;
-  const bool closed = std::fclose(f) == 0;
-  std::error_code ec;
-  if (!ok || !closed) {
-    fs::remove(temp, ec);
-    throw Error("cannot write " + path + " (disk full or not writable?)");
-  }
-  fs::rename(temp, target, ec);
-  if (ec) {
-    fs::remove(temp, ec);
-    throw Error("cannot write " + path + ": rename from temporary file failed");
-  }
-}
 
 DepthImage readDepthPng(const std::string& path, float units_per_metre) {
   if (!(units_per_metre > 0)) throw Error("depth scale must be positive, got " + std::to_string(units_per_metre));

@@ -1,7 +1,7 @@
 #pragma once
 // PNG/JPG images in and out of the core image types. Depth PNGs are 16-bit (TUM: value / 5000 =
 // metres, 0 = no reading); label maps are single-channel 8- or 16-bit class ids. Writers never
-// leave a half-written file behind: they write a temporary file beside the target and rename it.
+// leave a half-written file behind (core/atomic_output.h).
 #include <string>
 
 #include "core/image.h"
@@ -30,9 +30,5 @@ void writeDepthPng(const std::string& path, const DepthImage& depth_m,
 void writeColorPng(const std::string& path, const ColorImage& color);
 // Class ids -> 8-bit PNG when every id fits in a byte, else 16-bit.
 void writeLabelPng(const std::string& path, const LabelImage& labels);
-
-// Writes bytes to `path` atomically: a temporary file in the same directory, flushed, then
-// renamed over the target. Shared by the writers of this module (trajectories, class tables).
-void writeFileAtomic(const std::string& path, const std::string& bytes);
 
 }  // namespace vf

@@ -2,7 +2,6 @@
 
 #include <assimp/Exporter.hpp>
 #include <assimp/scene.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cstring>
@@ -11,28 +10,13 @@
 #include <map>
 #include <sstream>
 
+#include "core/atomic_output.h"
 #include "core/error.h"
 
 namespace vf {
 namespace {
 
 namespace fs = std::filesystem;
-
-// Temp name beside the target so that the final rename stays on one file system.
-fs::path tempPathFor(const fs::path& target) {
-  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  if (!fs::is_directory(dir)) throw Error(target.string() + ": output directory does not exist");
-  return dir / ("." + target.filename().string() + ".tmp" + std::to_string(::getpid()));
-}
-
-void commit(const fs::path& tmp, const fs::path& target) {
-  std::error_code ec;
-  fs::rename(tmp, target, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw Error(target.string() + ": cannot move the written file into place: " + ec.message());
-  }
-}
 
 std::string lower(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
@@ -99,7 +83,8 @@ void writePly(const TriangleMesh& mesh, const std::string& path, bool with_class
   checkMesh(mesh, path);
   if (with_class_property && !mesh.hasClasses())
     throw Error(path + ": --with-class-property needs a scene with classes");
-  const fs::path tmp = tempPathFor(path);
+  AtomicFile file(path);
+  const fs::path tmp = file.tempPath();
   {
     std::ofstream out(tmp, std::ios::binary);
     if (!out) throw Error(path + ": cannot create " + tmp.string());
@@ -134,12 +119,9 @@ void writePly(const TriangleMesh& mesh, const std::string& path, bool with_class
     }
     out.write(buf.data(), std::streamsize(buf.size()));
     out.close();
-    if (!out) {
-      fs::remove(tmp);
-      throw Error(path + ": write failed (disk full?)");
-    }
+    if (!out) throw Error(path + ": write failed (disk full?)");
   }
-  commit(tmp, path);
+  file.commit();
 }
 
 void writeObj(const TriangleMesh& mesh, const std::string& path, const ClassTable* classes) {
@@ -147,7 +129,8 @@ void writeObj(const TriangleMesh& mesh, const std::string& path, const ClassTabl
   const fs::path target(path);
   fs::path mtl_target = target;
   mtl_target.replace_extension(".mtl");
-  const fs::path tmp = tempPathFor(target), mtl_tmp = tempPathFor(mtl_target);
+  AtomicFile file(path), mtl_file(mtl_target.string());
+  const fs::path tmp = file.tempPath(), mtl_tmp = mtl_file.tempPath();
   const auto groups = facesByClass(mesh);
   {
     std::ofstream mtl(mtl_tmp);
@@ -190,14 +173,10 @@ void writeObj(const TriangleMesh& mesh, const std::string& path, const ClassTabl
     }
     out.close();
     mtl.close();
-    if (!out || !mtl) {
-      fs::remove(tmp);
-      fs::remove(mtl_tmp);
-      throw Error(path + ": write failed (disk full?)");
-    }
+    if (!out || !mtl) throw Error(path + ": write failed (disk full?)");
   }
-  commit(mtl_tmp, mtl_target);
-  commit(tmp, target);
+  mtl_file.commit();
+  file.commit();
 }
 
 void writeGlb(const TriangleMesh& mesh, const std::string& path, const ClassTable* classes) {
@@ -259,14 +238,13 @@ void writeGlb(const TriangleMesh& mesh, const std::string& path, const ClassTabl
     scene.mRootNode->mMeshes[m] = m;
     ++m;
   }
-  const fs::path tmp = tempPathFor(path);
+  // To memory first: Assimp's file writer reports no write errors, ours does (disk full).
   Assimp::Exporter exporter;
-  if (exporter.Export(&scene, "glb2", tmp.string()) != AI_SUCCESS) {
-    std::error_code ec;
-    fs::remove(tmp, ec);
-    throw Error(path + ": GLB export failed: " + exporter.GetErrorString());
-  }
-  commit(tmp, path);
+  const aiExportDataBlob* blob = exporter.ExportToBlob(&scene, "glb2");
+  if (!blob) throw Error(path + ": GLB export failed: " + exporter.GetErrorString());
+  AtomicFile file(path);
+  file.write(blob->data, blob->size);
+  file.commit();
 }
 
 namespace {

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/atomic_output.h"
 #include "core/error.h"
 #include "io/image_io.h"
 

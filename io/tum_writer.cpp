@@ -12,6 +12,7 @@
 #include <sstream>
 #include <vector>
 
+#include "core/atomic_output.h"
 #include "core/error.h"
 #include "io/image_io.h"
 
@@ -62,12 +63,9 @@ std::string listHeader(const char* what, const std::string& description) {
 
 TumWriteResult writeTumFolder(const FrameSource& source, const std::string& folder,
                               const TumWriteOptions& options) {
-  const fs::path dir(folder);
-  if (fs::exists(dir)) {
-    if (!fs::is_directory(dir)) throw Error(folder + ": exists and is not a folder");
-    if (!fs::is_empty(dir) && !options.force)
-      throw Error(folder + ": folder exists and is not empty (use --force to write into it)");
-  }
+  // Everything goes into a temporary folder, which replaces `folder` only once complete.
+  AtomicFolder output(folder);
+  const fs::path dir(output.tempPath());
   std::error_code ec;
   fs::create_directories(dir / "depth", ec);
   if (!ec) fs::create_directories(dir / "rgb", ec);
@@ -138,6 +136,7 @@ TumWriteResult writeTumFolder(const FrameSource& source, const std::string& fold
   writeFileAtomic((dir / "depth.txt").string(), depth.str());
   if (result.poses) writeFileAtomic((dir / "groundtruth.txt").string(), gt.str());
   writeFileAtomic((dir / "camera_intrinsics.txt").string(), calib);
+  output.commit();
   return result;
 }
 

@@ -16,7 +16,6 @@ namespace vf {
 
 struct TumWriteOptions {
   int max_frames = -1;  // < 0: all frames
-  bool force = false;   // write into an existing non-empty folder (files are overwritten)
   // Called after each frame is written with (frames done, frames total); may be called from
   // worker threads, one call at a time.
   std::function<void(int, int)> progress;
@@ -27,8 +26,10 @@ struct TumWriteResult {
   int poses = 0;  // lines written to groundtruth.txt
 };
 
-// Throws vf::Error naming the folder or file when the folder exists and is not empty (without
-// force), or when any file cannot be written. Frames are loaded and written in parallel.
+// Writes into a temporary folder beside `folder` and renames it into place when every file is
+// written, replacing an existing `folder` as a whole (the caller decides whether that is allowed).
+// Throws vf::Error naming the folder or file when anything cannot be read or written; the old
+// folder then stays as it was. Frames are loaded and written in parallel.
 TumWriteResult writeTumFolder(const FrameSource& source, const std::string& folder,
                               const TumWriteOptions& options = {});
 

@@ -6,23 +6,23 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "core/atomic_output.h"
 #include "core/error.h"
 
 namespace vf {
 
 struct VideoWriter::Impl {
-  std::string path, temp_path;
+  explicit Impl(const std::string& target) : path(target), file(target), temp_path(file.tempPath()) {}
+  std::string path;
+  AtomicFile file;
+  std::string temp_path;
   int width = 0, height = 0;
   cv::VideoWriter writer;
   bool closed = false;
 };
 
 VideoWriter::VideoWriter(const std::string& path, int width, int height, double fps)
-    : impl_(std::make_unique<Impl>()) {
-  impl_->path = path;
-  // Keep the extension so OpenCV picks the container from it.
-  const std::filesystem::path p(path);
-  impl_->temp_path = (p.parent_path() / ("." + p.stem().string() + ".partial" + p.extension().string())).string();
+    : impl_(std::make_unique<Impl>(path)) {
   impl_->width = width;
   impl_->height = height;
   const int fourcc = cv::VideoWriter::fourcc('m', 'p', '4', 'v');
@@ -31,10 +31,7 @@ VideoWriter::VideoWriter(const std::string& path, int width, int height, double 
 }
 
 VideoWriter::~VideoWriter() {
-  if (!impl_->closed) {
-    impl_->writer.release();
-    std::remove(impl_->temp_path.c_str());
-  }
+  if (!impl_->closed) impl_->writer.release();  // the AtomicFile removes the temporary
 }
 
 void VideoWriter::write(const ColorImage& frame) {
@@ -49,10 +46,12 @@ void VideoWriter::write(const ColorImage& frame) {
 
 void VideoWriter::close() {
   impl_->writer.release();
-  std::error_code ec;
-  std::filesystem::rename(impl_->temp_path, impl_->path, ec);
-  if (ec) throw Error(impl_->path + ": cannot move the finished video into place: " + ec.message());
   impl_->closed = true;
+  // OpenCV reports no write errors; an empty file is the one failure that can be seen.
+  std::error_code ec;
+  if (std::filesystem::file_size(impl_->temp_path, ec) == 0 || ec)
+    throw Error(impl_->path + ": the video could not be written (disk full?)");
+  impl_->file.commit();
 }
 
 }  // namespace vf

@@ -14,7 +14,7 @@ out=${2:-/tmp/vdbfuse_dance_eval}
 data=${VDBFUSE_DATA_DIR:-$here/../../../shared/data}
 capture=$data/record3d_dance_head200.r3d
 labels=$data/record3d_dance_head200_labels
-volume=(--volume-size 512 --voxel-size-m 0.01 --device cpu -q -f)
+volume=(--voxel-size-m 0.01 --device cpu -q -f)
 mkdir -p "$out"
 
 # 1. ICP tracking with the person masked out of ICP and TSDF, against the phone's poses

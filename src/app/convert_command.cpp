@@ -5,6 +5,7 @@
 #include <string>
 
 #include "app/command_registry.h"
+#include "app/output_policy.h"
 #include "io/record3d_export.h"
 #include "io/tum_writer.h"
 
@@ -21,6 +22,9 @@ struct ConvertOptions {
 };
 
 void runConvert(const ConvertOptions& o) {
+  OutputPolicy outputs(o.force);
+  outputs.input(o.capture);
+  outputs.folder(o.output, "output");
   Record3dOptions r3d;
   r3d.min_confidence = o.min_confidence;
   const std::unique_ptr<FrameSource> source = openRecord3d(o.capture, r3d);
@@ -28,7 +32,6 @@ void runConvert(const ConvertOptions& o) {
 
   TumWriteOptions write;
   write.max_frames = o.max_frames;
-  write.force = o.force;
   int last_decile = -1;
   write.progress = [&last_decile](int done, int total) {
     const int decile = total ? done * 10 / total : 10;
@@ -50,7 +53,7 @@ void setup(CLI::App& root) {
       "convert", "Convert a Record3D capture (.r3d or EXR+JPG export) into a TUM RGB-D folder");
   cmd->add_option("capture", options->capture, "Record3D .r3d file or export folder (metadata.json)")
       ->required();
-  cmd->add_option("output", options->output, "output folder (must be empty or new unless --force)")
+  cmd->add_option("output", options->output, "output folder (must not exist unless --force)")
       ->required();
   cmd->add_option("--to", options->format, "output format")
       ->capture_default_str()
@@ -61,7 +64,7 @@ void setup(CLI::App& root) {
       ->check(CLI::Range(0, 2));
   cmd->add_option("--max-frames", options->max_frames, "convert only the first N frames")
       ->check(CLI::NonNegativeNumber);
-  cmd->add_flag("--force", options->force, "write into an existing non-empty folder");
+  cmd->add_flag("-f,--force", options->force, "replace an existing output folder, with everything in it");
   cmd->callback([options] { runConvert(*options); });
 }
 

@@ -7,6 +7,7 @@
 
 #include "app/command_registry.h"
 #include "core/error.h"
+#include "core/atomic_output.h"
 #include "io/image_io.h"
 #include "io/mesh_io.h"
 #include "vdb/mesh_ops.h"

@@ -2,6 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "io/image_io.h"
 
 namespace vf::app {
 
@@ -33,6 +37,30 @@ ColorImage composeRenderPanel(const RgbdFrame& frame, const Prediction& predicti
       panel(2 * w + x, y) = shaded(x, y);
     }
   return panel;
+}
+
+RenderOutputs::RenderOutputs(std::string folder, std::string video)
+    : folder_(std::move(folder)), video_path_(std::move(video)) {
+  if (!folder_.empty()) std::filesystem::create_directories(folder_);
+}
+
+void RenderOutputs::add(int index, const RgbdFrame& frame, Pipeline& pipeline) {
+  if (!enabled()) return;
+  const Prediction prediction = pipeline.predict(true);
+  const ColorImage panel = composeRenderPanel(frame, prediction, pipeline.pose());
+  if (!folder_.empty()) {
+    char name[32];
+    std::snprintf(name, sizeof(name), "frame_%05d.png", index);
+    writeColorPng((std::filesystem::path(folder_) / name).string(), panel);
+  }
+  if (!video_path_.empty()) {
+    if (!video_) video_ = std::make_unique<VideoWriter>(video_path_, panel.width(), panel.height(), 30.0);
+    video_->write(panel);
+  }
+}
+
+void RenderOutputs::close() {
+  if (video_) video_->close();
 }
 
 }  // namespace vf::app

@@ -1,38 +1,84 @@
 #include "app/run_control.h"
 
+#include <pthread.h>
 #include <signal.h>
+#include <unistd.h>
 
 #include <atomic>
+#include <cstdio>
+#include <mutex>
+#include <thread>
+
+#include "core/atomic_output.h"
 
 namespace vf::app {
 namespace {
 
 std::atomic<int> g_stop_signal{0};
-static_assert(std::atomic<int>::is_always_lock_free, "the signal handler needs a lock-free atomic");
+std::atomic<bool> g_graceful{false};
+std::mutex g_message_mutex;
+std::string g_stop_message;
 
-struct sigaction g_previous_int, g_previous_term;
+sigset_t stopSignalSet() {
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, SIGINT);
+  sigaddset(&set, SIGTERM);
+  return set;
+}
 
-extern "C" void recordStopSignal(int signal) {
-  int expected = 0;
-  g_stop_signal.compare_exchange_strong(expected, signal);
+[[noreturn]] void terminateBy(int signal) {
+  removeAllPendingOutputs();
+  // Die of the signal itself, so that the parent sees what happened (status 128 + signal).
+  struct sigaction action {};
+  action.sa_handler = SIG_DFL;
+  sigemptyset(&action.sa_mask);
+  sigaction(signal, &action, nullptr);
+  const sigset_t set = stopSignalSet();
+  pthread_sigmask(SIG_UNBLOCK, &set, nullptr);
+  raise(signal);
+  _exit(128 + signal);  // not reached
+}
+
+void handleSignals() {
+  const sigset_t set = stopSignalSet();
+  for (;;) {
+    int signal = 0;
+    if (sigwait(&set, &signal) != 0) continue;
+    if (!g_graceful.load()) terminateBy(signal);
+    int expected = 0;
+    if (g_stop_signal.compare_exchange_strong(expected, signal)) {
+      std::lock_guard<std::mutex> lock(g_message_mutex);
+      std::fprintf(stderr, "\n%s: %s\n", StopSignals::name(signal).c_str(), g_stop_message.c_str());
+    } else {
+      std::fprintf(stderr, "\n%s: still saving, please wait\n", StopSignals::name(signal).c_str());
+    }
+  }
 }
 
 }  // namespace
 
-StopSignals::StopSignals() {
-  g_stop_signal = 0;
-  struct sigaction action {};
-  action.sa_handler = recordStopSignal;
-  sigemptyset(&action.sa_mask);
-  action.sa_flags = SA_RESETHAND | SA_RESTART;
-  sigaction(SIGINT, &action, &g_previous_int);
-  sigaction(SIGTERM, &action, &g_previous_term);
+void startSignalThread() {
+  const sigset_t set = stopSignalSet();
+  pthread_sigmask(SIG_BLOCK, &set, nullptr);
+  std::thread(handleSignals).detach();
 }
 
-StopSignals::~StopSignals() {
-  sigaction(SIGINT, &g_previous_int, nullptr);
-  sigaction(SIGTERM, &g_previous_term, nullptr);
+void restoreSignalMask() {
+  const sigset_t set = stopSignalSet();
+  pthread_sigmask(SIG_UNBLOCK, &set, nullptr);
 }
+
+StopSignals::StopSignals(std::string message) {
+  {
+    std::lock_guard<std::mutex> lock(g_message_mutex);
+    g_stop_message = std::move(message);
+  }
+  g_stop_signal = 0;
+  g_graceful = true;
+}
+
+StopSignals::~StopSignals() { g_graceful = false; }
 
 int StopSignals::received() const { return g_stop_signal.load(); }
 

@@ -1,5 +1,15 @@
 #pragma once
-// Stopping a long command cleanly, and reporting a chosen exit status.
+// Stopping a command cleanly, and reporting a chosen exit status.
+//
+// SIGINT and SIGTERM never interrupt vdbfuse's threads: startSignalThread() (first thing in
+// main) blocks them in every thread and hands them to one thread of their own, which acts in
+// normal context (no async-signal-safety limits):
+//   - by default it removes every output still being written (core/atomic_output.h) and ends the
+//     process by the signal, so an interrupted mesh, edit or convert leaves the old outputs as
+//     they were and no temporary behind;
+//   - while a StopSignals object lives (reconstruct's frame loop), the first signal only asks the
+//     loop to stop after the current frame and save; later ones are answered with "still saving"
+//     and otherwise ignored, so a second Ctrl-C never loses the run.
 #include <stdexcept>
 #include <string>
 
@@ -12,13 +22,16 @@ struct ExitWithStatus : std::runtime_error {
   int status;
 };
 
-// While alive, SIGINT and SIGTERM only record themselves (the handler sets an atomic and does
-// nothing else); the work loop polls received() at a point where stopping is safe. The handlers
-// are one-shot (SA_RESETHAND): a second Ctrl-C terminates at once. Destruction restores the
-// previous handlers.
+// Blocks SIGINT and SIGTERM in the calling thread (and so in every thread started after it) and
+// starts the thread that handles them. Call before any other thread exists.
+void startSignalThread();
+// Unblocks them again in this thread, e.g. before exec() hands the process to another program.
+void restoreSignalMask();
+
 class StopSignals {
  public:
-  StopSignals();
+  // message: printed by the signal thread when the first signal arrives.
+  explicit StopSignals(std::string message);
   ~StopSignals();
   StopSignals(const StopSignals&) = delete;
   StopSignals& operator=(const StopSignals&) = delete;

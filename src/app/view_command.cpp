@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "app/command_registry.h"
+#include "app/run_control.h"
 #include "core/error.h"
 
 namespace vf::app {
@@ -38,6 +39,7 @@ std::string findViewer() {
   std::vector<char*> argv;
   for (std::string& a : argv_strings) argv.push_back(a.data());
   argv.push_back(nullptr);
+  restoreSignalMask();  // the viewer handles its own signals; exec keeps the mask
   execvp(viewer.c_str(), argv.data());
   const int err = errno;  // only reached when the exec failed
   throw Error("cannot run " + viewer + " (" + std::strerror(err) +

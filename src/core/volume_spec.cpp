@@ -1,28 +1,30 @@
 #include "core/volume_spec.h"
 
 #include <cmath>
+#include <cstdio>
 
 #include "core/error.h"
 
 namespace vf {
+namespace {
+
+std::string number(float v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", double(v));
+  return text;
+}
+
+}  // namespace
 
 void VolumeSpec::validate() const {
-  auto bad = [](const std::string& field, const std::string& value, const std::string& why) {
-    throw Error("volume: " + field + " = " + value + " " + why);
-  };
-  const int dim[3] = {dims.x, dims.y, dims.z};
-  for (int d : dim) {
-    if (d <= 0 || d % kBrickSize != 0 || d > 4096)
-      bad("volume-size", std::to_string(dims.x) + "," + std::to_string(dims.y) + "," +
-                             std::to_string(dims.z),
-          "must be positive multiples of 8 and at most 4096");
-  }
-  if (!(voxel_size_m > 0) || !std::isfinite(voxel_size_m))
-    bad("voxel-size-m", std::to_string(voxel_size_m), "must be a positive number of metres");
+  // 0.1 mm .. 1 m: below, a room needs more bricks than any memory; above, nothing is resolved.
+  if (!(voxel_size_m >= 1e-4f && voxel_size_m <= 1.0f))
+    throw Error("VolumeSpec.voxel_size_m = " + number(voxel_size_m) + ": expected 0.0001 to 1 metre");
   const float trunc = truncationOrDefault();
-  if (!(trunc >= voxel_size_m) || !std::isfinite(trunc))
-    bad("truncation-m", std::to_string(trunc), "must be at least one voxel (" +
-                                                    std::to_string(voxel_size_m) + " m)");
+  if (!(truncation_m >= 0) || !(trunc >= voxel_size_m && trunc <= kMaxTruncationVox * voxel_size_m))
+    throw Error("VolumeSpec.truncation_m = " + number(truncation_m) + ": expected 1 to " +
+                number(kMaxTruncationVox) + " voxels (" + number(voxel_size_m) + " to " +
+                number(kMaxTruncationVox * voxel_size_m) + " m)");
 }
 
 }  // namespace vf

@@ -1,30 +1,27 @@
 #pragma once
+#include <cstddef>
 #include <string>
 
 #include "core/math.h"
 
 namespace vf {
 
-// Geometry of the dense voxel volume. Voxel (i, j, k) covers the cube whose lowest corner is
-// origin_m + (i, j, k) * voxel_size_m; its sample sits at the cube's centre.
+// Geometry of the sparse voxel volume (core/brick_volume.h): voxel size and truncation. There is
+// no box: bricks are allocated wherever depth reaches, in the world frame (the first camera's,
+// or the recorded poses' frame).
 struct VolumeSpec {
-  Vec3i dims{512, 512, 512};
-  float voxel_size_m = 3.0f / 512.0f;
-  float truncation_m = 0.0f;  // 0 = derived: kDefaultTruncationVox voxels
-  Vec3f origin_m{0, 0, 0};
+  float voxel_size_m = 3.0f / 512.0f;  // 5.86 mm: the 512^3-over-3-m voxel KinectFusion set-ups use
+  float truncation_m = 0.0f;           // 0 = derived: kDefaultTruncationVox voxels
+  size_t max_bricks = 0;               // 0 = as many as memory allows
 
   static constexpr float kDefaultTruncationVox = 5.0f;
-  static constexpr int kBrickSize = 8;  // dims must be multiples of this
+  static constexpr float kMaxTruncationVox = 64.0f;
 
   float truncationOrDefault() const {
     return truncation_m > 0 ? truncation_m : kDefaultTruncationVox * voxel_size_m;
   }
-  // Throws vf::Error naming the field and value when the spec is unusable.
+  // Throws vf::Error naming the field (VolumeSpec.voxel_size_m, ...) and value when unusable.
   void validate() const;
-  Vec3f extent_m() const {
-    return {dims.x * voxel_size_m, dims.y * voxel_size_m, dims.z * voxel_size_m};
-  }
-  size_t voxelCount() const { return size_t(dims.x) * size_t(dims.y) * size_t(dims.z); }
 };
 
 }  // namespace vf

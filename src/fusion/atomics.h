@@ -63,4 +63,23 @@ VF_HD uint32_t loadRelaxed(const uint32_t* word) {
 #endif
 }
 
+VF_HD uint64_t loadRelaxed(const uint64_t* word) {
+#if defined(__CUDA_ARCH__)
+  return *reinterpret_cast<const volatile unsigned long long*>(word);
+#else
+  return __atomic_load_n(word, __ATOMIC_RELAXED);
+#endif
+}
+
+// Stores `desired` where *word == expected; returns the value found (== expected on success).
+VF_HD uint64_t compareExchange(uint64_t* word, uint64_t expected, uint64_t desired) {
+#if defined(__CUDA_ARCH__)
+  return atomicCAS(reinterpret_cast<unsigned long long*>(word), (unsigned long long)expected,
+                   (unsigned long long)desired);
+#else
+  __atomic_compare_exchange_n(word, &expected, desired, false, __ATOMIC_RELAXED, __ATOMIC_RELAXED);
+  return expected;
+#endif
+}
+
 }  // namespace vf

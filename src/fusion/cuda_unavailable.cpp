@@ -7,7 +7,7 @@
 namespace vf::cuda {
 namespace {
 [[noreturn]] void unavailable() {
-  throw Error("this vdbfuse was built without CUDA; use --device cpu");
+  throw Error("Device = cuda: this vdbfuse was built without CUDA; Device = cpu runs without it");
 }
 }  // namespace
 

@@ -9,7 +9,7 @@ Device parseDevice(const std::string& name) {
   if (name == "cpu") return Device::Cpu;
   if (name == "cuda") return Device::Cuda;
   if (name == "auto") return Device::Auto;
-  throw Error("--device " + name + ": expected cpu, cuda or auto");
+  throw Error("Device = '" + name + "': expected cpu, cuda or auto");
 }
 
 std::string deviceName(Device device) {
@@ -49,11 +49,11 @@ Device resolveDevice(Device requested) {
   const int gpus = cudaDeviceCount();
   if (requested == Device::Auto) return gpus > 0 ? Device::Cuda : Device::Cpu;
   if (!cudaBuilt())
-    throw Error("--device cuda: this vdbfuse was built without CUDA (configure with nvcc available "
-                "and -DVDBFUSE_WITH_CUDA=ON), use --device cpu");
+    throw Error("Device = cuda: this vdbfuse was built without CUDA (configure with nvcc available "
+                "and -DVDBFUSE_WITH_CUDA=ON); Device = cpu runs without it");
   if (gpus == 0)
-    throw Error("--device cuda: no usable CUDA GPU found (" + cuda::lastErrorDescription() +
-                "), use --device cpu");
+    throw Error("Device = cuda: no usable CUDA GPU found (" + cuda::lastErrorDescription() +
+                "); Device = cpu runs without one");
   return Device::Cuda;
 }
 

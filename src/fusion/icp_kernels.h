@@ -4,13 +4,9 @@
 // estimate. Each pixel contributes one row of the 6x6 normal equations.
 #include "core/image.h"
 #include "core/intrinsics.h"
+#include "fusion/normal_equations.h"
 
 namespace vf {
-
-// Layout of one reduction row: 21 entries of the upper triangle of J^T W J, 6 of J^T W r,
-// the weighted squared residual, the inlier count, and the count of usable measured pixels
-// (the denominator of the inlier fraction used for tracking-loss detection).
-constexpr int kIcpRowSize = 30;
 
 struct IcpKernel {
   ImageView<const Vec3f> vertex_cam;   // measured, current camera frame, level l
@@ -27,29 +23,28 @@ struct IcpKernel {
   int stride_px = 1;  // use every stride-th measured pixel in x and y
 
   // Number of work items for the reduction.
-  VF_HD int count() const {
-    return ((vertex_cam.width + stride_px - 1) / stride_px) * ((vertex_cam.height + stride_px - 1) / stride_px);
-  }
+  VF_HD int count() const { return stridedPixelCount(vertex_cam.width, vertex_cam.height, stride_px); }
 
   VF_HD bool operator()(int item, float* row) const {
-    const int cols = (vertex_cam.width + stride_px - 1) / stride_px;
-    const int i = (item / cols) * stride_px * vertex_cam.width + (item % cols) * stride_px;
+    const int i = stridedPixel(item, vertex_cam.width, stride_px);
     const Vec3f v_cam = vertex_cam[i];
     if (v_cam.z <= 0.f) return false;
     const Vec3f n_cam = normal_cam[i];
     if (n_cam.x == 0.f && n_cam.y == 0.f && n_cam.z == 0.f) return false;
-    for (int k = 0; k < 29; ++k) row[k] = 0.f;
-    row[29] = 1.f;  // a usable measurement, matched or not
+    for (int k = 0; k < normal_row::kSize; ++k) row[k] = 0.f;
+    row[normal_row::kMeasured] = 1.f;  // a usable measurement, matched or not
     correspond(v_cam, n_cam, row);
     return true;
   }
 
-  // Fills row[0..28] when the measurement finds a model partner that passes both rejections.
+  // Fills the row's equations and inlier count when the measurement finds a model partner that passes both rejections.
   VF_HD void correspond(Vec3f v_cam, Vec3f n_cam, float* row) const {
     const Vec3f v = T_world_cam * v_cam;
     const Vec3f n = T_world_cam.rotate(n_cam);
     float u, w;
     if (!model_intrinsics.project(T_model_world * v, u, w)) return;
+    if (!(u >= -0.5f && w >= -0.5f && u < float(model_vertex.width) - 0.5f && w < float(model_vertex.height) - 0.5f))
+      return;
     const int px = int(floorf(u + 0.5f)), py = int(floorf(w + 0.5f));
     if (!model_vertex.inside(px, py)) return;
     const Vec3f mv = model_vertex(px, py);
@@ -64,12 +59,8 @@ struct IcpKernel {
     // d r / d xi for xi = (omega, t) applied on the left: [v x n, n]
     const Vec3f a = cross(v, mn);
     const float J[6] = {a.x, a.y, a.z, mn.x, mn.y, mn.z};
-    int k = 0;
-    for (int p = 0; p < 6; ++p)
-      for (int q = p; q < 6; ++q) row[k++] = weight * J[p] * J[q];
-    for (int p = 0; p < 6; ++p) row[k++] = weight * J[p] * r;
-    row[27] = weight * r * r;
-    row[28] = 1.f;
+    packNormalRow(row, J, r, weight);
+    row[normal_row::kInliers] = 1.f;
   }
 };
 

@@ -9,27 +9,34 @@
 
 namespace vf {
 
-// Marks every brick within the truncation band of a depth sample with the frame's stamp.
-// The band [d - trunc, d + trunc] along each (strided) pixel ray is walked in steps of
-// step_vox voxels; each step marks the bricks overlapping a box that covers the step and the
+// Allocates (on first touch) and lists every brick within the truncation band of a depth
+// sample. The band [d - trunc, d + trunc] along each (strided) pixel ray is walked in steps of
+// step_vox voxels; each step touches the bricks overlapping a box that covers the step and the
 // footprint of the skipped neighbouring pixels, so no voxel the update would touch is missed.
+// Depth outside [min_depth_m, max_depth_m] is neither marked nor fused.
 struct MarkBricksKernel {
   ImageView<const float> depth;
   Intrinsics intrinsics;
   Rigid3f T_world_cam;
   VolumeView volume;
-  uint32_t stamp = 1;
-  int* allocated_list;   // every brick ever touched, appended on first touch
-  int* allocated_count;
+  float min_depth_m = 0.2f, max_depth_m = 4.f;
+  uint32_t stamp = 1;      // this frame (1-based): an entry stamped with it is already listed
+  uint32_t* entry_stamp;   // per hash entry
+  int* frame_entries;      // hash entries touched by this frame, each once
+  int* frame_count;
+  int* overflow;           // set when the hash table is too full for an insert
   int stride_px = 2;
   float step_vox = 2.f;
+  // A band is a few voxels deep; the cap only guards against absurd parameters, so that a
+  // step below float precision can never loop for ever.
+  static constexpr int kMaxSteps = 256;
 
   VF_HD void operator()(int i) const {
     const int cols = (depth.width + stride_px - 1) / stride_px;
     const int x = (i % cols) * stride_px, y = (i / cols) * stride_px;
     if (y >= depth.height) return;
     const float d = depth(x, y);
-    if (d <= 0.f) return;
+    if (!(d >= min_depth_m && d <= max_depth_m)) return;  // also refuses NaN
     const float trunc = volume.truncation_m;
     const Vec3f ray_cam = intrinsics.backProject(float(x), float(y), 1.f);  // z = 1
     const float inv_voxel = 1.f / volume.voxel_size_m;
@@ -39,36 +46,67 @@ struct MarkBricksKernel {
     const float half_box = 0.5f * step_vox + footprint_vox + 1.f;
     const float z_begin = d - trunc > 0.f ? d - trunc : 0.f, z_end = d + trunc;
     const float dz = step_vox * volume.voxel_size_m / norm(ray_cam);
-    for (float z = z_begin; z <= z_end + 0.5f * dz; z += dz) {
+    const float span = (z_end - z_begin) / dz;
+    const int steps = span < float(kMaxSteps) ? int(span + 0.5f) + 1 : kMaxSteps;
+    for (int s = 0; s <= steps; ++s) {
+      const float z = z_begin + float(s) * dz;
       const Vec3f p = volume.toVoxel(T_world_cam * (ray_cam * z));
-      const int bx0 = clampInt(int(floorf((p.x - half_box) * 0.125f)), 0, volume.bricks.x - 1);
-      const int bx1 = clampInt(int(floorf((p.x + half_box) * 0.125f)), -1, volume.bricks.x - 1);
-      const int by0 = clampInt(int(floorf((p.y - half_box) * 0.125f)), 0, volume.bricks.y - 1);
-      const int by1 = clampInt(int(floorf((p.y + half_box) * 0.125f)), -1, volume.bricks.y - 1);
-      const int bz0 = clampInt(int(floorf((p.z - half_box) * 0.125f)), 0, volume.bricks.z - 1);
-      const int bz1 = clampInt(int(floorf((p.z + half_box) * 0.125f)), -1, volume.bricks.z - 1);
-      for (int bz = bz0; bz <= bz1; ++bz)
-        for (int by = by0; by <= by1; ++by)
-          for (int bx = bx0; bx <= bx1; ++bx) {
-            const int brick = volume.brickIndex(bx, by, bz);
-            uint32_t* s = volume.brick_stamp + brick;
-            // The exchange tells exactly one thread that the brick is new: it is listed once.
-            if (loadRelaxed(s) != stamp && exchange(s, stamp) == 0)
-              allocated_list[atomicIncrement(allocated_count)] = brick;
-          }
+      const Vec3i lo = brickOfVoxel(int(floorf(p.x - half_box)), int(floorf(p.y - half_box)), int(floorf(p.z - half_box)));
+      const Vec3i hi = brickOfVoxel(int(floorf(p.x + half_box)), int(floorf(p.y + half_box)), int(floorf(p.z + half_box)));
+      for (int bz = lo.z; bz <= hi.z; ++bz)
+        for (int by = lo.y; by <= hi.y; ++by)
+          for (int bx = lo.x; bx <= hi.x; ++bx) touch(Vec3i{bx, by, bz});
     }
+  }
+
+  VF_HD void touch(Vec3i brick) const {
+    if (!brickCoordInRange(brick)) return;
+    const int e = volume.hash.insert(brickKey(brick));
+    if (e < 0) {
+      *overflow = 1;
+      return;
+    }
+    // The exchange tells exactly one thread that the entry is new to this frame: it is listed once.
+    if (loadRelaxed(entry_stamp + e) != stamp && exchange(entry_stamp + e, stamp) != stamp)
+      frame_entries[atomicIncrement(frame_count)] = e;
   }
 };
 
-// Appends the index of every brick carrying this frame's stamp to a list.
-struct CollectBricksKernel {
-  const uint32_t* brick_stamp;
-  uint32_t stamp;
+// Counts the touched entries that have no pool slot yet (the host grows the pool to fit).
+struct CountNewBricksKernel {
+  BrickHashView hash;
+  const int* frame_entries;
   int* count;
-  int* list;
+  VF_HD void operator()(int i) const {
+    if (hash.slots[frame_entries[i]] < 0) atomicIncrement(count);
+  }
+};
 
-  VF_HD void operator()(int b) const {
-    if (brick_stamp[b] == stamp) list[atomicIncrement(count)] = b;
+// Gives every touched entry without a slot the next free slot of the pool, and lists the slot of
+// every touched brick for integration. A brick the full pool cannot take stays without a slot
+// (-1): it is neither integrated nor seen by the raycast, and *pool_full tells the host.
+struct AssignSlotsKernel {
+  VolumeView volume;
+  const int* frame_entries;
+  int* frame_slots;
+  int* slot_count;  // slots in use; may run past the capacity by the bricks that did not fit
+  int pool_capacity;
+  int* pool_full;
+
+  VF_HD void operator()(int i) const {
+    const int e = frame_entries[i];
+    int slot = volume.hash.slots[e];
+    if (slot < 0) {
+      slot = atomicIncrement(slot_count);
+      if (slot >= pool_capacity) {
+        *pool_full = 1;
+        slot = -1;
+      } else {
+        volume.hash.slots[e] = slot;
+        volume.brick_coords[slot] = brickFromKey(volume.hash.keys[e]);
+      }
+    }
+    frame_slots[i] = slot;
   }
 };
 
@@ -99,13 +137,14 @@ VF_HD uint32_t voteUpdate(uint32_t vote, uint32_t label, uint32_t max_confidence
 // averages of eq. (11)-(12) with unit weight per frame, capped at max_weight.
 struct IntegrateKernel {
   VolumeView volume;
-  const int* bricks;
+  const int* slots;  // the bricks this frame touched (AssignSlotsKernel); -1 = not in the pool
   ImageView<const float> depth;
   ImageView<const Rgb8> color;        // data may be null
   ImageView<const uint16_t> labels;   // data may be null
   ImageView<const uint8_t> static_mask;  // data may be null; 0 = dynamic pixel: vote, do not fuse
   Intrinsics intrinsics;
   Rigid3f T_cam_world;
+  float min_depth_m = 0.2f, max_depth_m = 4.f;  // as MarkBricksKernel: other readings are not fused
   int max_weight = 128;
   uint32_t max_class_confidence = 255;
   bool probabilistic_vote = false;  // IntegrationParams::class_vote
@@ -117,24 +156,31 @@ struct IntegrateKernel {
   static constexpr int kRowsPerBrick = kBrickSize * kBrickSize;
 
   VF_HD void operator()(int row_item) const {
-    const int brick = bricks[row_item / kRowsPerBrick];
+    const int slot = slots[row_item / kRowsPerBrick];
+    if (slot < 0) return;
     const int row = row_item % kRowsPerBrick;  // (z & 7) * 8 + (y & 7)
-    const size_t first = size_t(brick) * kBrickVoxels + size_t(row) * kBrickSize;
-    const Vec3i c = volume.voxelCoord(first);
-    const Vec3f p0 = T_cam_world * volume.voxelCenter(c.x, c.y, c.z);
+    const Vec3i origin = volume.brickOrigin(slot);
+    const Vec3i first = {origin.x, origin.y + (row & kBrickMask), origin.z + (row >> kBrickShift)};
+    const Vec3f p0 = T_cam_world * volume.voxelCenter(first.x, first.y, first.z);
     const Vec3f step = T_cam_world.rotate(Vec3f{volume.voxel_size_m, 0.f, 0.f});
-    for (int k = 0; k < kBrickSize; ++k) updateVoxel(first + size_t(k), p0 + step * float(k));
+    // The probabilistic vote hashes a voxel's identity: its brick key and place in the brick,
+    // the same whichever slot the brick got, so every backend and every run agree.
+    const uint64_t voxel_id_base = brickKey(volume.brick_coords[slot]) << (3 * kBrickShift);
+    const int64_t first_index = VolumeView::voxelIndex(slot, row * kBrickSize);
+    for (int k = 0; k < kBrickSize; ++k)
+      updateVoxel(first_index + k, voxel_id_base | uint64_t(row * kBrickSize + k), p0 + step * float(k));
   }
 
   // Eq. (11)-(12) for one voxel whose centre is p in camera coordinates.
-  VF_HD void updateVoxel(size_t index, Vec3f p) const {
+  VF_HD void updateVoxel(int64_t index, uint64_t voxel_id, Vec3f p) const {
     if (p.z <= 0.f) return;
     float u, v;
     intrinsics.project(p, u, v);
+    // Compared as floats first: a voxel just in front of the camera projects far outside.
+    if (!(u >= -0.5f && v >= -0.5f && u < float(depth.width) - 0.5f && v < float(depth.height) - 0.5f)) return;
     const int px = int(floorf(u + 0.5f)), py = int(floorf(v + 0.5f));
-    if (!depth.inside(px, py)) return;
     const float d = depth(px, py);
-    if (d <= 0.f) return;
+    if (!(d >= min_depth_m && d <= max_depth_m)) return;
     const float sdf = d - p.z;
     const float trunc = volume.truncation_m;
     if (sdf < -trunc) return;  // behind the surface: unobserved
@@ -164,7 +210,7 @@ struct IntegrateKernel {
     }
     if (labels.data && volume.class_vote && near_surface && label != 0xFFFF)
       volume.class_vote[index] = voteUpdate(volume.class_vote[index], label, max_class_confidence,
-                                            probabilistic_vote, vote_seed, index, stamp);
+                                            probabilistic_vote, vote_seed, voxel_id, stamp);
   }
 };
 

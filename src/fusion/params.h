@@ -10,6 +10,7 @@
 namespace vf {
 
 struct MeasurementParams {
+  // Depth readings outside [min, max] are neither tracked against nor fused (nor allocate bricks).
   float min_depth_m = 0.2f;
   float max_depth_m = 4.0f;
   int bilateral_radius_px = 2;       // window (2r+1)^2
@@ -69,10 +70,6 @@ struct RaycastParams {
 
 struct PipelineParams {
   VolumeSpec volume;
-  // The world frame is the first camera's. When true the volume is placed as KinectFusion does,
-  // the first camera centred on the volume's front face looking in; otherwise volume.origin_m
-  // (the lowest corner, in metres) is used as given.
-  bool place_like_kinectfusion = true;
   // Pixels of dynamic classes are grown by this many pixels before they are masked out.
   int dynamic_mask_dilation_px = 4;
   MeasurementParams measurement;

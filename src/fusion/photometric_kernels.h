@@ -71,13 +71,10 @@ struct PhotometricKernel {
   int stride_px = 1;  // use every stride-th model pixel in x and y
 
   // Number of work items for the reduction.
-  VF_HD int count() const {
-    return ((model_vertex.width + stride_px - 1) / stride_px) * ((model_vertex.height + stride_px - 1) / stride_px);
-  }
+  VF_HD int count() const { return stridedPixelCount(model_vertex.width, model_vertex.height, stride_px); }
 
   VF_HD bool operator()(int item, float* row) const {
-    const int cols = (model_vertex.width + stride_px - 1) / stride_px;
-    const int i = (item / cols) * stride_px * model_vertex.width + (item % cols) * stride_px;
+    const int i = stridedPixel(item, model_vertex.width, stride_px);
     const Vec3f n = model_normal[i];
     if (n.x == 0.f && n.y == 0.f && n.z == 0.f) return false;
     const float model_grey = model_intensity[i];
@@ -104,13 +101,9 @@ struct PhotometricKernel {
     const float J[6] = {j_rot.x, j_rot.y, j_rot.z, -a.x, -a.y, -a.z};
     const float abs_r = fabsf(r);
     const float w = weight * (abs_r <= huber ? 1.f : huber / abs_r);
-    int k = 0;
-    for (int q = 0; q < 6; ++q)
-      for (int s = q; s < 6; ++s) row[k++] = w * J[q] * J[s];
-    for (int q = 0; q < 6; ++q) row[k++] = w * J[q] * r;
-    row[27] = w * r * r;
-    row[28] = 0.f;  // statistics (inliers, measured pixels) stay geometric
-    row[29] = 0.f;
+    packNormalRow(row, J, r, w);
+    row[normal_row::kInliers] = 0.f;  // statistics (inliers, measured pixels) stay geometric
+    row[normal_row::kMeasured] = 0.f;
     return true;
   }
 };

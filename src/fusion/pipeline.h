@@ -1,29 +1,33 @@
 #pragma once
 // The KinectFusion loop: measure -> track -> integrate -> raycast, per frame, on one backend.
-// Owns the volume and every per-frame buffer (allocated once in the constructor).
+// Owns the sparse volume and every per-frame buffer (frame buffers are allocated once in the
+// constructor; the volume grows with the scene).
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "core/brick_volume.h"
 #include "core/frame.h"
-#include "fusion/dense_volume.h"
 #include "fusion/device.h"
 #include "fusion/params.h"
 #include "fusion/stage_timer.h"
 
 namespace vf {
 
+class SparseVolume;
+
 // How the camera pose of each frame is obtained.
 enum class PoseSource {
-  Icp,       // frame-to-model ICP (KinectFusion)
-  Given,     // trust the frame's recorded pose (phones, mocap)
-  GivenIcp,  // start ICP from the recorded relative motion and refine
+  Icp,       // frame-to-model ICP (KinectFusion); the world frame is the first camera's
+  Given,     // trust the frame's recorded pose (phones, mocap); the world is the recording's
+  GivenIcp,  // start ICP from the recorded relative motion and refine; the recording's world
 };
 
 struct FrameResult {
   bool tracked = true;      // false: pose rejected, last good pose kept, frame not integrated
   bool integrated = false;
+  bool volume_full = false; // memory ran out: some of this frame's bricks could not be allocated
   Pose T_world_cam = Pose::Identity();
   int icp_inliers = 0;
   float icp_inlier_fraction = 0.f;
@@ -36,6 +40,17 @@ struct Prediction {
   Image<Vec3f> vertex_world;
   Image<Vec3f> normal_world;  // (0,0,0) = no surface
   Image<Rgb8> color;
+};
+
+// What processFrame() carries from one frame to the next besides the volume; a checkpoint saves
+// it with the volume's bricks so that a resumed run continues bit for bit.
+struct PipelineState {
+  int frames_processed = 0;
+  int frames_lost = 0;
+  Pose T_world_cam = Pose::Identity();
+  Pose T_world_model = Pose::Identity();  // camera the tracking prediction was raycast from
+  bool has_prediction = false;
+  std::optional<Pose> last_given_pose;    // GivenIcp: the recorded pose of the previous frame
 };
 
 class Pipeline {
@@ -52,11 +67,13 @@ class Pipeline {
   // Classes whose pixels are kept out of TSDF integration and ICP (still voted), by class id.
   void setDynamicClasses(const std::vector<int>& class_ids);
 
-  const Pose& pose() const { return T_world_cam_; }
-  int framesProcessed() const { return frames_processed_; }
-  int framesLost() const { return frames_lost_; }
+  const Pose& pose() const { return state_.T_world_cam; }
+  int framesProcessed() const { return state_.frames_processed; }
+  int framesLost() const { return state_.frames_lost; }
   Device device() const { return device_; }
   const PipelineParams& params() const { return params_; }
+  const Intrinsics& intrinsics() const { return intrinsics_; }
+  bool withClasses() const { return with_classes_; }
   const StageTimer& timer() const { return timer_; }
   StageTimer& timer() { return timer_; }
 
@@ -64,47 +81,46 @@ class Pipeline {
   Prediction predict(bool with_color);
   Prediction predictFrom(const Pose& T_world_cam, bool with_color);
 
-  // The fused volume in host memory (CPU: the live volume; CUDA: downloaded).
-  const DenseVolume& hostVolume();
+  // Every allocated brick in host memory (CPU: the live volume; CUDA: a download). Valid until
+  // the next processFrame() or hostVolume() call.
+  BrickVolumeView hostVolume();
+  int brickCount() const;
+  // Bytes the backend holds for the volume now.
+  size_t volumeBytes() const;
+  // Bytes a pipeline allocates on the GPU when it starts (frame buffers, the first brick pool).
+  static size_t startupDeviceBytes(const Intrinsics& camera, bool with_classes);
 
-  // Bytes of memory the backend holds for volume and frame buffers (upper bound, all committed).
-  size_t reservedBytes() const;
+  // Checkpoints (fusion/checkpoint.h): the state to save, and a restore into a pipeline that has
+  // processed no frame yet. Restoring raycasts the tracking prediction again from the saved pose,
+  // exactly as the last processFrame() left it.
+  const PipelineState& state() const { return state_; }
+  void restore(const PipelineState& state, const HostBrickVolume& bricks);
 
  private:
   struct Buffers;
+  struct IcpSolution;
   void measure(const RgbdFrame& frame);
+  // Tracking (fusion/tracking.cpp): the ICP solve, then the decision whether to trust it.
   FrameResult track(const Pose& initial_guess);
-  void integrate();
+  IcpSolution solveIcp(const Pose& initial_guess);
+  FrameResult judgeTracking(const IcpSolution& solution) const;
+  bool integrate();  // false when the pool was full for some of the frame's bricks
   void raycast(const Pose& T_world_cam, bool with_color, int level);
-  // The model prediction tracking uses: a raycast from T_world_cam_, which becomes T_world_model_.
+  // The model prediction tracking uses: a raycast from the current pose, which becomes
+  // state_.T_world_model.
   void raycastForTracking();
-
-  // Checkpoints (fusion/pipeline_state.h) save and restore the frame state of this class.
-  friend struct PipelineStateAccess;
-  // The allocated-brick list (order of first touch), downloaded from / uploaded to the backend;
-  // the setter also sets allocated_bricks_.
-  std::vector<int> allocatedBrickList() const;
-  void setAllocatedBrickList(const std::vector<int>& bricks);
   bool photometricActive() const;
 
   PipelineParams params_;
   Intrinsics intrinsics_;
   Device device_;
   bool with_classes_;
+  std::unique_ptr<SparseVolume> volume_;
   std::unique_ptr<Buffers> buffers_;
-  DenseVolume host_volume_;
-  VolumeView volume_;  // views of the backend's arrays
-  Pose T_world_cam_ = Pose::Identity();
-  Pose T_world_model_ = Pose::Identity();  // camera the current prediction was raycast from
-  std::optional<Pose> first_given_pose_;
-  std::optional<Pose> last_given_pose_;
-  bool has_prediction_ = false;
+  PipelineState state_;
   bool has_labels_ = false;
   bool has_color_ = false;
   bool model_has_intensity_ = false;  // the prediction carries model_intensity
-  int frames_processed_ = 0;
-  int frames_lost_ = 0;
-  int allocated_bricks_ = 0;  // length of the allocated-brick list
   StageTimer timer_;
 };
 

@@ -26,28 +26,54 @@ struct ClearRangeKernel {
   }
 };
 
+// A brick's bounding sphere against the camera's frustum (near, far and the four image edges),
+// before the exact projection of its corners: most bricks of a large scene are out of view and
+// cost one transform.
+struct FrustumCull {
+  float near_m = 0.1f, far_m = 5.f;
+  Vec3f side_normals[4];  // camera frame, unit, pointing out of the frustum through each image edge
+
+  static FrustumCull make(const Intrinsics& k, float near_m, float far_m) {
+    FrustumCull c;
+    c.near_m = near_m;
+    c.far_m = far_m;
+    const float left = -0.5f - k.cx, right = float(k.width) - 0.5f - k.cx;
+    const float top = -0.5f - k.cy, bottom = float(k.height) - 0.5f - k.cy;
+    c.side_normals[0] = normalized(Vec3f{-k.fx, 0.f, left});
+    c.side_normals[1] = normalized(Vec3f{k.fx, 0.f, -right});
+    c.side_normals[2] = normalized(Vec3f{0.f, -k.fy, top});
+    c.side_normals[3] = normalized(Vec3f{0.f, k.fy, -bottom});
+    return c;
+  }
+  VF_HD bool outside(Vec3f center_cam, float radius) const {
+    if (center_cam.z + radius < near_m || center_cam.z - radius > far_m) return true;
+    for (int k = 0; k < 4; ++k)
+      if (dot(side_normals[k], center_cam) > radius) return true;
+    return false;
+  }
+};
+
 struct BrickRangeKernel {
   VolumeView volume;
-  const int* bricks;
   Intrinsics intrinsics;
   Rigid3f T_cam_world;
-  float near_m = 0.1f;
+  FrustumCull cull;
   float* range_min;
   float* range_max;
   int tiles_x = 0, tiles_y = 0;
 
-  VF_HD void operator()(int i) const {
-    const int brick = bricks[i];
-    const int bx = brick % volume.bricks.x, by = (brick / volume.bricks.x) % volume.bricks.y,
-              bz = brick / (volume.bricks.x * volume.bricks.y);
+  VF_HD void operator()(int slot) const {
+    const Vec3i origin = volume.brickOrigin(slot);
+    const float edge_m = kBrickSize * volume.voxel_size_m;
+    const Vec3f corner0{origin.x * volume.voxel_size_m, origin.y * volume.voxel_size_m, origin.z * volume.voxel_size_m};
+    const Vec3f center = T_cam_world * (corner0 + Vec3f{0.5f, 0.5f, 0.5f} * edge_m);
+    if (cull.outside(center, 0.8661f * edge_m)) return;  // radius: half the diagonal
+    const float near_m = cull.near_m;
     float z_lo = 3.0e38f, z_hi = 0.f, u_lo = 3.0e38f, u_hi = -3.0e38f, v_lo = 3.0e38f, v_hi = -3.0e38f;
     bool behind = false;
     for (int k = 0; k < 8; ++k) {
       // Brick corners: the outer faces of its edge voxels.
-      const float cx = float(bx * 8 + ((k & 1) ? 8 : 0)), cy = float(by * 8 + ((k & 2) ? 8 : 0)),
-                  cz = float(bz * 8 + ((k & 4) ? 8 : 0));
-      const Vec3f world{volume.origin_m.x + cx * volume.voxel_size_m, volume.origin_m.y + cy * volume.voxel_size_m,
-                        volume.origin_m.z + cz * volume.voxel_size_m};
+      const Vec3f world = corner0 + Vec3f{(k & 1) ? edge_m : 0.f, (k & 2) ? edge_m : 0.f, (k & 4) ? edge_m : 0.f};
       const Vec3f p = T_cam_world * world;
       z_lo = p.z < z_lo ? p.z : z_lo;
       z_hi = p.z > z_hi ? p.z : z_hi;
@@ -55,7 +81,7 @@ struct BrickRangeKernel {
         behind = true;
         continue;
       }
-      float u, v;
+      float u = 0.f, v = 0.f;  // p.z >= near_m > 0: project() always sets them
       intrinsics.project(p, u, v);
       u_lo = u < u_lo ? u : u_lo, u_hi = u > u_hi ? u : u_hi;
       v_lo = v < v_lo ? v : v_lo, v_hi = v > v_hi ? v : v_hi;
@@ -66,10 +92,10 @@ struct BrickRangeKernel {
       u_hi = v_hi = 1.0e6f;
       z_lo = near_m;
     }
-    const int tx0 = clampInt(int(floorf(u_lo / kRangeTilePx)), 0, tiles_x);
-    const int tx1 = clampInt(int(floorf(u_hi / kRangeTilePx)), -1, tiles_x - 1);
-    const int ty0 = clampInt(int(floorf(v_lo / kRangeTilePx)), 0, tiles_y);
-    const int ty1 = clampInt(int(floorf(v_hi / kRangeTilePx)), -1, tiles_y - 1);
+    const int tx0 = clampInt(int(floorf(fmaxf(u_lo, -8.f) / kRangeTilePx)), 0, tiles_x);
+    const int tx1 = clampInt(int(floorf(fminf(u_hi, 1.0e6f) / kRangeTilePx)), -1, tiles_x - 1);
+    const int ty0 = clampInt(int(floorf(fmaxf(v_lo, -8.f) / kRangeTilePx)), 0, tiles_y);
+    const int ty1 = clampInt(int(floorf(fminf(v_hi, 1.0e6f) / kRangeTilePx)), -1, tiles_y - 1);
     for (int ty = ty0; ty <= ty1; ++ty)
       for (int tx = tx0; tx <= tx1; ++tx) {
         atomicMinNonNegative(range_min + ty * tiles_x + tx, z_lo);
@@ -91,24 +117,6 @@ struct RaycastKernel {
   const float* range_max = nullptr;
   int tiles_x = 0;
 
-  // Ray parameter range [t0, t1] inside the volume's box (voxel coordinates).
-  VF_HD bool clipToVolume(Vec3f o, Vec3f d, float& t0, float& t1) const {
-    const float lo[3] = {-0.5f, -0.5f, -0.5f};
-    const float hi[3] = {volume.dims.x - 0.5f, volume.dims.y - 0.5f, volume.dims.z - 0.5f};
-    const float oo[3] = {o.x, o.y, o.z}, dd[3] = {d.x, d.y, d.z};
-    for (int a = 0; a < 3; ++a) {
-      if (fabsf(dd[a]) < 1e-9f) {
-        if (oo[a] < lo[a] || oo[a] > hi[a]) return false;
-        continue;
-      }
-      float ta = (lo[a] - oo[a]) / dd[a], tb = (hi[a] - oo[a]) / dd[a];
-      if (ta > tb) { const float tmp = ta; ta = tb; tb = tmp; }
-      t0 = ta > t0 ? ta : t0;
-      t1 = tb < t1 ? tb : t1;
-    }
-    return t0 < t1;
-  }
-
   // Ray parameter where the ray leaves brick (bx, by, bz).
   VF_HD static float brickExit(Vec3f o, Vec3f d, int bx, int by, int bz) {
     const float oo[3] = {o.x, o.y, o.z}, dd[3] = {d.x, d.y, d.z};
@@ -116,7 +124,7 @@ struct RaycastKernel {
     float t = 3.0e38f;
     for (int a = 0; a < 3; ++a) {
       if (fabsf(dd[a]) < 1e-9f) continue;
-      const float face = dd[a] > 0.f ? b[a] * 8 + 7.5f : b[a] * 8 - 0.5f;
+      const float face = dd[a] > 0.f ? float(b[a] * kBrickSize) + (kBrickSize - 0.5f) : float(b[a] * kBrickSize) - 0.5f;
       const float ta = (face - oo[a]) / dd[a];
       t = ta < t ? ta : t;
     }
@@ -141,38 +149,31 @@ struct RaycastKernel {
     const float z_to_t = norm(intrinsics.backProject(float(x), float(y), 1.f)) * inv_voxel;
     t = fmaxf(t, z_lo * z_to_t - 1.f);
     t_end = fminf(t_end, z_hi * z_to_t + 1.f);
-    if (!clipToVolume(o, d, t, t_end)) return;
     const float trunc_vox = volume.truncation_m * inv_voxel;
     const float unobserved_step = fmaxf(min_step_vox, 0.5f * trunc_vox);
     // Coarse march on single nearest-voxel reads (one load each); the trilinear field is only
     // evaluated once a sign change is bracketed.
     float prev_t = 0.f;
     bool have_prev = false;
-    int current_brick = -1;
-    bool current_allocated = false;
+    Vec3i current_brick{0, 0, 0};
+    int current_slot = -2;  // -2: nothing looked up yet
     while (t < t_end) {
       const Vec3f g = o + d * t;
       const int ix = int(floorf(g.x + 0.5f)), iy = int(floorf(g.y + 0.5f)), iz = int(floorf(g.z + 0.5f));
-      if (!volume.contains(ix, iy, iz)) {
-        t += min_step_vox;
-        have_prev = false;
-        continue;
+      const Vec3i brick = brickOfVoxel(ix, iy, iz);
+      if (current_slot == -2 || brick.x != current_brick.x || brick.y != current_brick.y || brick.z != current_brick.z) {
+        current_brick = brick;  // look a brick up once, not at every step inside it
+        current_slot = volume.hash.slotOf(brick);
       }
-      const int bx = ix >> 3, by = iy >> 3, bz = iz >> 3;
-      const int brick = volume.brickIndex(bx, by, bz);
-      if (brick != current_brick) {  // look a brick up once, not at every step inside it
-        current_brick = brick;
-        current_allocated = volume.brick_stamp[brick] != 0;
-      }
-      if (!current_allocated) {
+      if (current_slot < 0) {
         // Never advance less than a regular step: a ray grazing a brick face would otherwise
         // creep along it in tiny increments.
-        const float t_exit = brickExit(o, d, bx, by, bz);
+        const float t_exit = brickExit(o, d, brick.x, brick.y, brick.z);
         t = t_exit > t + min_step_vox ? t_exit + 0.01f : t + min_step_vox;
         have_prev = false;
         continue;
       }
-      const TsdfVoxel v = volume.tsdf[volume.voxelIndex(ix, iy, iz)];
+      const TsdfVoxel v = volume.tsdf[VolumeView::voxelIndex(current_slot, localVoxelIndex(ix, iy, iz))];
       if (v.weight == 0) {
         // Unobserved: no surface within half a truncation band can start here unseen, since
         // every fused surface is preceded by a full band of positive voxels.

@@ -6,23 +6,27 @@
 
 namespace vf {
 
-// Reads the 8 voxels around g. Returns false when a corner lies outside the volume or was never
-// observed (its zero would fake a surface). f receives the fractional position in the cell.
+// Reads the 8 voxels around g. Returns false when a corner was never observed (unallocated brick
+// or weight 0: its zero would fake a surface). f receives the fractional position in the cell.
 VF_HD bool cellCorners(const VolumeView& volume, Vec3f g, float corners[8], Vec3f& f) {
   const float fx0 = floorf(g.x), fy0 = floorf(g.y), fz0 = floorf(g.z);
+  if (!(fabsf(fx0) < 1.0e9f && fabsf(fy0) < 1.0e9f && fabsf(fz0) < 1.0e9f)) return false;  // NaN, far away
   const int x = int(fx0), y = int(fy0), z = int(fz0);
-  if (x < 0 || y < 0 || z < 0 || x + 1 >= volume.dims.x || y + 1 >= volume.dims.y || z + 1 >= volume.dims.z)
-    return false;
   f = {g.x - fx0, g.y - fy0, g.z - fz0};
   TsdfVoxel c[8];
-  if ((x & 7) != 7 && (y & 7) != 7 && (z & 7) != 7) {
-    // All eight corners in one brick: fixed offsets from the first.
-    const TsdfVoxel* base = volume.tsdf + volume.voxelIndex(x, y, z);
+  if ((x & kBrickMask) != kBrickMask && (y & kBrickMask) != kBrickMask && (z & kBrickMask) != kBrickMask) {
+    // All eight corners in one brick: one lookup, fixed offsets from the first.
+    const int64_t first = volume.findVoxel(x, y, z);
+    if (first < 0) return false;
+    const TsdfVoxel* base = volume.tsdf + first;
     c[0] = base[0], c[1] = base[1], c[2] = base[8], c[3] = base[9];
     c[4] = base[64], c[5] = base[65], c[6] = base[72], c[7] = base[73];
   } else {
-    for (int k = 0; k < 8; ++k)
-      c[k] = volume.tsdf[volume.voxelIndex(x + (k & 1), y + ((k >> 1) & 1), z + (k >> 2))];
+    for (int k = 0; k < 8; ++k) {
+      const int64_t index = volume.findVoxel(x + (k & 1), y + ((k >> 1) & 1), z + (k >> 2));
+      if (index < 0) return false;
+      c[k] = volume.tsdf[index];
+    }
   }
   for (int k = 0; k < 8; ++k) {
     if (c[k].weight == 0) return false;
@@ -47,7 +51,7 @@ VF_HD bool sampleTsdfGradient(const VolumeView& volume, Vec3f g, float& out, Vec
 }
 
 // Trilinear TSDF at continuous voxel coordinate g (integers are voxel centres), normalised to
-// [-1, 1]; false where any corner is unobserved or outside.
+// [-1, 1]; false where any corner is unobserved.
 VF_HD bool sampleTsdf(const VolumeView& volume, Vec3f g, float& out) {
   float value;
   Vec3f unused_gradient;
@@ -58,9 +62,9 @@ VF_HD bool sampleTsdf(const VolumeView& volume, Vec3f g, float& out) {
 
 // Color of the voxel nearest to g, if it has one.
 VF_HD bool nearestColor(const VolumeView& volume, Vec3f g, Rgb8& out) {
-  const int x = int(floorf(g.x + 0.5f)), y = int(floorf(g.y + 0.5f)), z = int(floorf(g.z + 0.5f));
-  if (!volume.contains(x, y, z)) return false;
-  out = volume.color[volume.voxelIndex(x, y, z)];
+  const int64_t index = volume.findVoxel(int(floorf(g.x + 0.5f)), int(floorf(g.y + 0.5f)), int(floorf(g.z + 0.5f)));
+  if (index < 0) return false;
+  out = volume.color[index];
   return out.a > 0;
 }
 

@@ -10,7 +10,6 @@
 #include <mutex>
 
 #include "core/error.h"
-#include "fusion/dense_volume.h"
 #include "vdb/scene_grids.h"
 
 namespace vf {
@@ -20,10 +19,9 @@ void ensureOpenVdbInitialized() {
   std::call_once(once, [] { openvdb::initialize(); });
 }
 
-openvdb::math::Transform::Ptr sceneTransform(float voxel_size_m, const Vec3f& origin_m) {
+openvdb::math::Transform::Ptr sceneTransform(float voxel_size_m) {
   auto xform = openvdb::math::Transform::createLinearTransform(double(voxel_size_m));
-  xform->postTranslate(openvdb::Vec3d(origin_m.x + 0.5 * voxel_size_m, origin_m.y + 0.5 * voxel_size_m,
-                                      origin_m.z + 0.5 * voxel_size_m));
+  xform->postTranslate(openvdb::Vec3d(0.5 * voxel_size_m, 0.5 * voxel_size_m, 0.5 * voxel_size_m));
   return xform;
 }
 
@@ -84,18 +82,17 @@ struct BrickLeaves {
 
 }  // namespace
 
-Scene sceneFromDenseVolume(const DenseVolume& volume, const SceneMetadata& meta) {
+Scene sceneFromBricks(const BrickVolumeView& v, const SceneMetadata& meta) {
   ensureOpenVdbInitialized();
-  const VolumeView& v = volume.view();
-  if (!v.tsdf) throw Error("scene: cannot convert an empty (unallocated) dense volume");
+  if (!(v.voxel_size_m > 0)) throw Error("scene: the brick volume has no voxel size");
   Scene scene;
   scene.meta = meta;
   scene.meta.voxel_size_m = v.voxel_size_m;
   scene.meta.truncation_m = v.truncation_m;
 
-  const auto xform = sceneTransform(v.voxel_size_m, v.origin_m);
+  const auto xform = sceneTransform(v.voxel_size_m);
   const float trunc = v.truncation_m;
-  const bool with_classes = volume.hasClasses();
+  const bool with_classes = v.hasClasses();
   SceneGrids& g = scene.grids();
   g.tsdf = makeGrid<openvdb::FloatGrid>(trunc, kTsdfGridName, xform);
   g.tsdf->setGridClass(openvdb::GRID_LEVEL_SET);
@@ -107,21 +104,19 @@ Scene sceneFromDenseVolume(const DenseVolume& volume, const SceneMetadata& meta)
     g.class_confidence = makeGrid<openvdb::FloatGrid>(0.f, kClassConfidenceGridName, xform);
   }
 
-  const std::vector<int> bricks = volume.observedBricks();
-  std::vector<BrickLeaves> leaves(bricks.size());
+  std::vector<BrickLeaves> leaves(v.brick_count);
   const auto& lin = srgbToLinearTable();
   const float sdf_scale = trunc / kTsdfScale;
 
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, bricks.size(), 64), [&](const auto& range) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, v.brick_count, 64), [&](const auto& range) {
     for (size_t n = range.begin(); n != range.end(); ++n) {
-      const int b = bricks[n];
-      const size_t base = size_t(b) * kBrickVoxels;
+      const size_t base = n * kBrickVoxels;
       // Skip bricks that were touched but where no voxel got weight (e.g. carved free space).
       bool any = false;
       for (int i = 0; i < kBrickVoxels && !any; ++i) any = v.tsdf[base + i].weight > 0;
       if (!any) continue;
-      const int bx = b % v.bricks.x, by = (b / v.bricks.x) % v.bricks.y, bz = b / (v.bricks.x * v.bricks.y);
-      const openvdb::Coord origin(bx * kBrickSize, by * kBrickSize, bz * kBrickSize);
+      const Vec3i b = v.coords[n];
+      const openvdb::Coord origin(b.x * kBrickSize, b.y * kBrickSize, b.z * kBrickSize);
       BrickLeaves& out = leaves[n];
       out.tsdf = new openvdb::FloatTree::LeafNodeType(origin, trunc, false);
       out.weight = new openvdb::FloatTree::LeafNodeType(origin, 0.f, false);
@@ -130,13 +125,13 @@ Scene sceneFromDenseVolume(const DenseVolume& volume, const SceneMetadata& meta)
         out.class_id = new openvdb::Int32Tree::LeafNodeType(origin, kSceneUnknownClass, false);
         out.confidence = new openvdb::FloatTree::LeafNodeType(origin, 0.f, false);
       }
-      // Dense brick order is (z, y, x) with x fastest; OpenVDB leaves store x slowest.
+      // Brick order is (z, y, x) with x fastest (core/brick_volume.h); OpenVDB leaves store x slowest.
       for (int i = 0; i < kBrickVoxels; ++i) {
         const TsdfVoxel tw = v.tsdf[base + i];
         const uint16_t w = tw.weight;
         if (w == 0) continue;
-        const int x = i & 7, y = (i >> 3) & 7, z = i >> 6;
-        const openvdb::Index o = openvdb::Index((x << 6) | (y << 3) | z);
+        const Vec3i local = localVoxelOffset(i);
+        const openvdb::Index o = openvdb::Index((local.x << 6) | (local.y << 3) | local.z);
         out.tsdf->setValueOn(o, tw.tsdf * sdf_scale);
         out.weight->setValueOn(o, float(w));
         const Rgb8 c = v.color[base + i];

@@ -6,11 +6,11 @@
 #include <memory>
 #include <string>
 
+#include "core/brick_volume.h"
 #include "core/class_table.h"
 
 namespace vf {
 
-class DenseVolume;
 struct SceneGrids;  // OpenVDB grids; defined in vdb/scene_grids.h, only src/vdb includes it
 
 // What the .vdb file records besides the grids.
@@ -55,10 +55,10 @@ class Scene {
   std::unique_ptr<SceneGrids> grids_;
 };
 
-// Sparse copy of the observed part of a dense volume: only bricks with brick_stamp != 0 and,
-// inside them, voxels with weight > 0 become active. Parallel over bricks.
-// meta.voxel_size_m / truncation_m are taken from the volume (the arguments' values are ignored).
-Scene sceneFromDenseVolume(const DenseVolume& volume, const SceneMetadata& meta);
+// The fused bricks as grids: each brick becomes one leaf at the same coordinates, and its voxels
+// with weight > 0 become active. Parallel over bricks. meta.voxel_size_m / truncation_m are taken
+// from the bricks (the arguments' values are ignored).
+Scene sceneFromBricks(const BrickVolumeView& bricks, const SceneMetadata& meta);
 
 // Writes grids + metadata to a temp file beside `path` and renames it into place; on error no
 // file is left behind. Throws vf::Error naming the path.

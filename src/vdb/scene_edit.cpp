@@ -42,7 +42,7 @@ openvdb::MaskGrid::Ptr maskWhere(const SceneGrids& g, Pred pred) {
 
 size_t excludeClassVoxels(Scene& scene, const std::set<int>& ids) {
   SceneGrids& g = scene.grids();
-  if (!g.class_id) throw Error("--exclude-classes: the scene has no class grid (fused without labels)");
+  if (!g.class_id) throw Error("excludeClassVoxels: the scene has no class grid (fused without labels)");
   const openvdb::Int32Tree& classes = g.class_id->tree();
   auto mask = maskWhere(g, [&](const openvdb::Coord& ijk, const FloatLeaf&, openvdb::Index) {
     return ids.count(classes.getValue(ijk)) > 0;
@@ -52,7 +52,7 @@ size_t excludeClassVoxels(Scene& scene, const std::set<int>& ids) {
 
 size_t cropToBox(Scene& scene, Vec3f min_m, Vec3f max_m) {
   if (!(min_m.x < max_m.x && min_m.y < max_m.y && min_m.z < max_m.z))
-    throw Error("--crop-box: need xmin < xmax, ymin < ymax and zmin < zmax");
+    throw Error("cropToBox: need xmin < xmax, ymin < ymax and zmin < zmax");
   SceneGrids& g = scene.grids();
   const openvdb::math::Transform& xform = g.tsdf->transform();
   auto mask = maskWhere(g, [&](const openvdb::Coord& ijk, const FloatLeaf&, openvdb::Index) {

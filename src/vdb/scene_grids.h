@@ -28,8 +28,8 @@ size_t removeMaskedVoxels(SceneGrids& grids, const openvdb::MaskGrid& mask);
 void writeVdbFileAtomic(const std::string& path, const openvdb::GridPtrVec& grids, const openvdb::MetaMap& meta,
                         const std::string& what);
 
-// The scene's voxel-to-world transform: index (i,j,k) sits at origin + (i+0.5, j+0.5, k+0.5) * voxel
-// (cell centred, as VolumeView::voxelCenter).
-openvdb::math::Transform::Ptr sceneTransform(float voxel_size_m, const Vec3f& origin_m);
+// The scene's voxel-to-world transform: index (i,j,k) sits at (i+0.5, j+0.5, k+0.5) * voxel in the
+// fusion world frame (cell centred, as core/brick_volume.h).
+openvdb::math::Transform::Ptr sceneTransform(float voxel_size_m);
 
 }  // namespace vf

@@ -1,11 +1,11 @@
 // Reading and writing the scene document (.vdb). Metadata keys are prefixed "vdbfuse_" so that
 // other tools (Blender, Houdini) show them without clashing with their own.
 #include <openvdb/io/File.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "core/atomic_output.h"
 #include "core/error.h"
 #include "core/version.h"
 #include "vdb/scene.h"
@@ -90,21 +90,20 @@ void writeScene(const Scene& scene, const std::string& path) {
 
 void writeVdbFileAtomic(const std::string& path, const openvdb::GridPtrVec& grids, const openvdb::MetaMap& meta,
                         const std::string& what) {
-  // Temp file in the target directory, renamed into place: readers never see a half-written file.
-  const fs::path target(path);
-  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  if (!fs::is_directory(dir)) throw Error(path + ": output directory does not exist");
-  const fs::path tmp = dir / ("." + target.filename().string() + ".tmp" + std::to_string(::getpid()));
+  AtomicFile output(path);
+  std::vector<std::string> names;
+  for (const auto& grid : grids) names.push_back(grid->getName());
   try {
-    openvdb::io::File file(tmp.string());
+    openvdb::io::File file(output.tempPath());
     file.write(grids, meta);
     file.close();
-    fs::rename(tmp, target);
+    // libopenvdb's stream reports no write errors (a full disk leaves a short file): the file is
+    // walked as a reader would before it may replace the target.
+    checkVdbFileStructure(output.tempPath(), names);
   } catch (const std::exception& e) {
-    std::error_code ignored;
-    fs::remove(tmp, ignored);
-    throw Error(path + ": cannot write " + what + ": " + e.what());
+    throw Error(path + ": cannot write " + what + " (disk full?): " + e.what());
   }
+  output.commit();
 }
 
 Scene readScene(const std::string& path) {

@@ -8,14 +8,8 @@
 // descriptor says.
 #include "vdb/vdb_file_check.h"
 
-#include <fcntl.h>
-#include <sys/mman.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <array>
 #include <cctype>
-#include <cerrno>
 #include <cstdint>
 #include <cstring>
 #include <istream>
@@ -24,7 +18,9 @@
 #include <openvdb/io/Compression.h>
 #include <vector>
 
+#include "core/byte_reader.h"
 #include "core/error.h"
+#include "core/mapped_file.h"
 #include "vdb/openvdb_init.h"
 
 namespace vf {
@@ -50,85 +46,7 @@ enum NodeValueFlags : int8_t {
   kNoMaskAndAllVals = 6,
 };
 
-// The whole file, mapped read-only.
-class MappedFile {
- public:
-  explicit MappedFile(const std::string& path) {
-    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd < 0) throw Error(path + ": cannot open scene file: " + std::strerror(errno));
-    struct stat st {};
-    if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-      ::close(fd);
-      throw Error(path + ": not a regular file");
-    }
-    size_ = size_t(st.st_size);
-    if (size_ > 0) {
-      void* p = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE, fd, 0);
-      if (p == MAP_FAILED) {
-        ::close(fd);
-        throw Error(path + ": cannot map scene file: " + std::strerror(errno));
-      }
-      data_ = static_cast<const uint8_t*>(p);
-    }
-    ::close(fd);
-  }
-  ~MappedFile() {
-    if (data_) ::munmap(const_cast<uint8_t*>(data_), size_);
-  }
-  MappedFile(const MappedFile&) = delete;
-  MappedFile& operator=(const MappedFile&) = delete;
-  const uint8_t* data() const { return data_; }
-  size_t size() const { return size_; }
 
- private:
-  const uint8_t* data_ = nullptr;
-  size_t size_ = 0;
-};
-
-// A read position that refuses to move past the end of the file.
-class Cursor {
- public:
-  Cursor(const uint8_t* data, size_t size, const std::string& path) : data_(data), size_(size), path_(path) {}
-
-  [[noreturn]] void fail(const std::string& what) const {
-    throw Error(path_ + ": damaged or unsupported .vdb file (byte " + std::to_string(pos_) + "): " + what);
-  }
-  size_t offset() const { return pos_; }
-  size_t size() const { return size_; }
-  uint64_t remaining() const { return size_ - pos_; }
-
-  const uint8_t* take(uint64_t n, const std::string& what) {
-    if (n > remaining())
-      fail(what + " needs " + std::to_string(n) + " bytes, the file has " + std::to_string(remaining()) + " left");
-    const uint8_t* p = data_ + pos_;
-    pos_ += size_t(n);
-    return p;
-  }
-  template <class T>
-  T read(const std::string& what) {
-    T value;
-    std::memcpy(&value, take(sizeof(T), what), sizeof(T));
-    return value;
-  }
-  // io::readString: a uint32 length and that many bytes.
-  std::string readString(const std::string& what) {
-    const uint32_t n = read<uint32_t>(what + " length");
-    const uint8_t* p = take(n, what);
-    return std::string(reinterpret_cast<const char*>(p), n);
-  }
-  void seek(int64_t pos, const std::string& what) {
-    if (pos < 0 || uint64_t(pos) > size_)
-      fail(what + " points to byte " + std::to_string(pos) + ", outside the file (" + std::to_string(size_) +
-           " bytes)");
-    pos_ = size_t(pos);
-  }
-
- private:
-  const uint8_t* data_;
-  size_t size_;
-  size_t pos_ = 0;
-  const std::string& path_;
-};
 
 uint32_t loadU32(const uint8_t* p) {
   uint32_t v;
@@ -150,7 +68,7 @@ uint64_t countOnBits(const uint8_t* mask, size_t bytes) {
 // compressed bytes it spans (bytes 12-15); blosc trusts both when it decompresses.
 // `padded_to` > 0: arrays shorter than that were zero-padded up to it before compression
 // (points::bloscCompress, which DelayedLoadMetadata uses, pads to BLOSC_PAD_BYTES = 128).
-void checkBloscHeader(Cursor& c, const uint8_t* chunk, uint64_t chunk_bytes, uint64_t expected_bytes,
+void checkBloscHeader(ByteReader& c, const uint8_t* chunk, uint64_t chunk_bytes, uint64_t expected_bytes,
                       const std::string& what, uint64_t padded_to = 0) {
   if (chunk_bytes < 16) c.fail(what + ": blosc chunk of " + std::to_string(chunk_bytes) + " bytes has no header");
   const uint64_t decompressed = loadU32(chunk + 4);
@@ -173,7 +91,7 @@ class MemoryStreamBuf : public std::streambuf {
 };
 
 // Decodes one compressed chunk (its int64 size prefix included) with libopenvdb's own decoder.
-void decodeChunk(Cursor& c, const uint8_t* chunk, size_t chunk_bytes, uint64_t bytes, uint32_t compression) {
+void decodeChunk(ByteReader& c, const uint8_t* chunk, size_t chunk_bytes, uint64_t bytes, uint32_t compression) {
   MemoryStreamBuf buffer(chunk, chunk_bytes);
   std::istream in(&buffer);
   std::vector<char> values(bytes);
@@ -189,7 +107,7 @@ void decodeChunk(Cursor& c, const uint8_t* chunk, size_t chunk_bytes, uint64_t b
 
 // io::readData: `bytes` bytes of values, raw or as one zip/blosc chunk whose int64 size prefix is
 // negative for data stored uncompressed. With `decode`, a compressed chunk is also decompressed.
-void checkValueData(Cursor& c, uint64_t bytes, uint32_t compression, bool decode) {
+void checkValueData(ByteReader& c, uint64_t bytes, uint32_t compression, bool decode) {
   if (!(compression & (kCompressBlosc | kCompressZip))) {
     c.take(bytes, "node values");
     return;
@@ -219,7 +137,7 @@ struct GridLayout {
 };
 
 // The grid type names of FloatGrid, Vec3SGrid and Int32Grid (Grid::gridType()).
-GridLayout layoutOfGridType(Cursor& c, const std::string& grid_name, const std::string& type) {
+GridLayout layoutOfGridType(ByteReader& c, const std::string& grid_name, const std::string& type) {
   GridLayout g;
   if (type == "Tree_float_5_4_3") {
     g.value_bytes = 4;
@@ -238,7 +156,7 @@ GridLayout layoutOfGridType(Cursor& c, const std::string& grid_name, const std::
 // io::readCompressedValues for a node of `node_values` values with value mask `value_mask`.
 // Internal nodes are allocated before their values are decoded and libopenvdb leaks the node when
 // decoding throws, so their chunks are decoded here (`decode`); leaves belong to the tree by then.
-void checkCompressedValues(Cursor& c, uint64_t node_values, const uint8_t* value_mask, const GridLayout& g,
+void checkCompressedValues(ByteReader& c, uint64_t node_values, const uint8_t* value_mask, const GridLayout& g,
                            bool decode) {
   const int8_t flags = c.read<int8_t>("node value flags");
   if (flags == kNoMaskAndOneInactiveVal || flags == kMaskAndOneInactiveVal || flags == kMaskAndTwoInactiveVals) {
@@ -259,7 +177,7 @@ using LeafMasks = std::vector<const uint8_t*>;
 
 // InternalNode::readTopology (log2dim 5: upper nodes, 4: lower nodes) and its children's; collects
 // the value mask of every leaf in the order readBuffers visits them.
-void checkInternalTopology(Cursor& c, int log2dim, const GridLayout& g, LeafMasks& leaves) {
+void checkInternalTopology(ByteReader& c, int log2dim, const GridLayout& g, LeafMasks& leaves) {
   const uint64_t values = uint64_t(1) << (3 * log2dim);
   const uint8_t* child_mask = c.take(values / 8, "child mask");
   const uint8_t* value_mask = c.take(values / 8, "value mask");
@@ -276,7 +194,7 @@ void checkInternalTopology(Cursor& c, int log2dim, const GridLayout& g, LeafMask
 }
 
 // Tree::readTopology then Tree::readBuffers.
-void checkTree(Cursor& c, const GridLayout& g) {
+void checkTree(ByteReader& c, const GridLayout& g) {
   c.read<int32_t>("buffer count");
   c.take(g.value_bytes, "background value");
   const uint32_t tiles = c.read<uint32_t>("root tile count");
@@ -317,7 +235,7 @@ void checkTree(Cursor& c, const GridLayout& g) {
 
 // DelayedLoadMetadata::readValue: a count, then one mask byte and one uint64 per leaf, each array
 // raw or blosc-compressed. libopenvdb sizes its arrays by the count before it reads them.
-void checkDelayedLoadMetadata(Cursor& c, uint32_t value_bytes) {
+void checkDelayedLoadMetadata(ByteReader& c, uint32_t value_bytes) {
   if (value_bytes == 0) return;
   const size_t start = c.offset();
   const uint32_t count = c.read<uint32_t>("delayed-load count");
@@ -350,7 +268,7 @@ struct MetaMapFacts {
 
 // MetaMap::readMeta. A registered fixed-size type is read with its own size whatever the file
 // states, so a different stated size would shift every later read.
-MetaMapFacts checkMetaMap(Cursor& c, const std::string& owner) {
+MetaMapFacts checkMetaMap(ByteReader& c, const std::string& owner) {
   MetaMapFacts facts;
   const uint32_t count = c.read<uint32_t>(owner + " metadata count");
   if (count > c.remaining() / 12)
@@ -382,7 +300,7 @@ MetaMapFacts checkMetaMap(Cursor& c, const std::string& owner) {
 }
 
 // Transform::read: the map's registered name, then its fields (math/Maps.h read()).
-void checkTransform(Cursor& c, const std::string& grid_name) {
+void checkTransform(ByteReader& c, const std::string& grid_name) {
   static const std::map<std::string, uint64_t> kMapBytes = {
       {"AffineMap", 128},         {"UnitaryMap", 128},        {"ScaleMap", 120},
       {"UniformScaleMap", 120},   {"TranslationMap", 24},     {"ScaleTranslateMap", 144},
@@ -402,7 +320,7 @@ struct Descriptor {
 };
 
 // io::Archive::readGrid from the descriptor's grid position. True if it ended at the stated end.
-bool checkGrid(Cursor& c, const Descriptor& d) {
+bool checkGrid(ByteReader& c, const Descriptor& d) {
   c.seek(d.grid_pos, "grid '" + d.grid_name + "' position");
   GridLayout g = layoutOfGridType(c, d.grid_name, d.type);
   g.compression = c.read<uint32_t>("grid compression flags");
@@ -415,7 +333,7 @@ bool checkGrid(Cursor& c, const Descriptor& d) {
   return int64_t(c.offset()) == d.end_pos;
 }
 
-std::vector<Descriptor> checkHeaderAndDescriptors(Cursor& c) {
+std::vector<Descriptor> checkHeaderAndDescriptors(ByteReader& c) {
   if (c.read<int64_t>("magic number") != kVdbMagic) c.fail("not an OpenVDB file (wrong magic number)");
   const uint32_t format = c.read<uint32_t>("file format version");
   if (format < kFirstFormat || format > kLastFormat)
@@ -464,8 +382,8 @@ std::vector<Descriptor> checkHeaderAndDescriptors(Cursor& c) {
 
 VdbFileWalk checkVdbFileStructure(const std::string& path, const std::vector<std::string>& grids_to_read) {
   ensureOpenVdbInitialized();  // the metadata type registry
-  const MappedFile file(path);
-  Cursor c(file.data(), file.size(), path);
+  const MappedFile file(path, "scene file");
+  ByteReader c(file.data(), file.size(), path + ": damaged or unsupported .vdb file");
   const std::vector<Descriptor> descriptors = checkHeaderAndDescriptors(c);
   VdbFileWalk walk;
   const auto check = [&](const Descriptor& d) {

@@ -27,6 +27,7 @@
 #include "fusion/parallel.h"
 #include "fusion/pipeline.h"
 #include "io/tum_dataset.h"
+#include "brick_lookup.h"
 #include "synthetic_scene.h"
 #include "test_data.h"
 
@@ -42,8 +43,8 @@ constexpr double kMinRaycastAgreement = 0.999;
 // ---- comparisons ------------------------------------------------------------------------------
 
 struct VolumeDiff {
-  size_t bricks = 0;             // bricks observed by either backend
-  size_t stamp_mismatch = 0;     // bricks whose last-touched frame differs
+  size_t bricks = 0;             // bricks allocated by either backend
+  size_t brick_mismatch = 0;     // bricks allocated by one backend only
   size_t observed = 0;           // voxels with weight on either side
   size_t weight_mismatch = 0;
   size_t tsdf_over = 0;          // both weighted, |dTSDF| > kMaxTsdfUnits
@@ -55,7 +56,7 @@ struct VolumeDiff {
 
   std::string str() const {
     std::ostringstream s;
-    s << bricks << " bricks (" << stamp_mismatch << " stamps differ), " << observed << " observed voxels: "
+    s << bricks << " bricks (" << brick_mismatch << " on one backend only), " << observed << " observed voxels: "
       << weight_mismatch << " weights differ, " << tsdf_over << " TSDF beyond " << kMaxTsdfUnits
       << " units (max " << max_tsdf_units << "), " << color_mismatch << " colors differ, " << class_mismatch
       << " class votes differ";
@@ -63,19 +64,23 @@ struct VolumeDiff {
   }
 };
 
-VolumeDiff compareVolumes(const DenseVolume& cpu, const DenseVolume& gpu) {
-  const VolumeView& a = cpu.view();
-  const VolumeView& b = gpu.view();
-  EXPECT_EQ(a.brickCount(), b.brickCount());
-  const std::vector<int> ba = cpu.observedBricks(), bb = gpu.observedBricks();
-  std::vector<int> bricks;
-  std::set_union(ba.begin(), ba.end(), bb.begin(), bb.end(), std::back_inserter(bricks));
+// Bricks are matched by coordinate: each backend allocates slots in the order its threads
+// reached the bricks, so the pools differ in order, never in content.
+VolumeDiff compareVolumes(const BrickVolumeView& a, const BrickVolumeView& b) {
+  const test::BrickLookup lookup_b(b);
+  const test::BrickLookup lookup_a(a);
   VolumeDiff d;
-  d.bricks = bricks.size();
-  for (int brick : bricks) {
-    if (a.brick_stamp[brick] != b.brick_stamp[brick]) ++d.stamp_mismatch;
-    for (size_t v = size_t(brick) * kBrickVoxels; v < size_t(brick + 1) * kBrickVoxels; ++v) {
-      const TsdfVoxel va = a.tsdf[v], vb = b.tsdf[v];
+  d.bricks = a.brick_count;
+  for (size_t n = 0; n < b.brick_count; ++n)
+    if (!lookup_a.hasBrick(b.coords[n])) ++d.bricks, ++d.brick_mismatch;
+  const TsdfVoxel unseen{0, 0};
+  for (size_t n = 0; n < a.brick_count; ++n) {
+    const Vec3i c = a.coords[n];
+    const int64_t first_b = lookup_b.find(c.x * kBrickSize, c.y * kBrickSize, c.z * kBrickSize);
+    if (first_b < 0) ++d.brick_mismatch;
+    for (int i = 0; i < kBrickVoxels; ++i) {
+      const size_t ia = n * kBrickVoxels + size_t(i);
+      const TsdfVoxel va = a.tsdf[ia], vb = first_b < 0 ? unseen : b.tsdf[size_t(first_b) + size_t(i)];
       if (va.weight == 0 && vb.weight == 0) continue;
       ++d.observed;
       bool differs = false;
@@ -85,11 +90,14 @@ VolumeDiff compareVolumes(const DenseVolume& cpu, const DenseVolume& gpu) {
         d.max_tsdf_units = std::max(d.max_tsdf_units, units);
         if (units > kMaxTsdfUnits) ++d.tsdf_over, differs = true;
       }
-      const Rgb8 ca = a.color[v], cb = b.color[v];
-      if (ca.a != cb.a || std::abs(ca.r - cb.r) > 1 || std::abs(ca.g - cb.g) > 1 || std::abs(ca.b - cb.b) > 1)
-        ++d.color_mismatch, differs = true;
-      if (a.class_vote && b.class_vote && a.class_vote[v] != b.class_vote[v]) ++d.class_mismatch, differs = true;
-      if (a.class_vote && a.class_vote[v] != 0) ++d.voted;
+      if (first_b >= 0) {
+        const size_t ib = size_t(first_b) + size_t(i);
+        const Rgb8 ca = a.color[ia], cb = b.color[ib];
+        if (ca.a != cb.a || std::abs(ca.r - cb.r) > 1 || std::abs(ca.g - cb.g) > 1 || std::abs(ca.b - cb.b) > 1)
+          ++d.color_mismatch, differs = true;
+        if (a.class_vote && b.class_vote && a.class_vote[ia] != b.class_vote[ib]) ++d.class_mismatch, differs = true;
+      }
+      if (a.class_vote && a.class_vote[ia] != 0) ++d.voted;
       if (differs) ++d.disagreeing;
     }
   }
@@ -98,7 +106,7 @@ VolumeDiff compareVolumes(const DenseVolume& cpu, const DenseVolume& gpu) {
 
 void expectIdenticalVolumes(const VolumeDiff& d) {
   EXPECT_GT(d.observed, 10000u) << "too little was fused for the comparison to mean much";
-  EXPECT_EQ(d.stamp_mismatch, 0u) << d.str();
+  EXPECT_EQ(d.brick_mismatch, 0u) << d.str();
   EXPECT_EQ(d.weight_mismatch, 0u) << d.str();
   EXPECT_LE(d.max_tsdf_units, kMaxTsdfUnits) << d.str();
   EXPECT_EQ(d.color_mismatch, 0u) << d.str();
@@ -235,7 +243,6 @@ std::vector<RgbdFrame> syntheticFrames(int count, const Intrinsics& k, bool with
 
 PipelineParams syntheticParams() {
   PipelineParams p;
-  p.volume.dims = {256, 256, 256};
   p.volume.voxel_size_m = 2.0f / 256.f;
   return p;
 }
@@ -270,7 +277,7 @@ TEST(CudaParity, TumWithIcpTracksTheSamePosesAndFusesTheSameVolume) {
   EXPECT_GT(d.observed, 10000u);
   // Poses agree to float rounding; at most 1 voxel in 10^4 may see a neighbouring pixel.
   EXPECT_LE(double(d.disagreeing), 1e-4 * double(d.observed)) << d.str();
-  EXPECT_EQ(d.stamp_mismatch, 0u) << d.str();
+  EXPECT_EQ(d.brick_mismatch, 0u) << d.str();
   expectSameRaycasts(runs);
 }
 
@@ -363,29 +370,29 @@ TEST(CudaParity, IcpReductionMatchesADoubleSumWithinFloatRounding) {
   std::vector<std::unique_ptr<Buffer<Vec3f>>> host_buffers, device_buffers;
   const IcpKernel host_icp = icpOn(Device::Cpu, host_buffers);
   const IcpKernel device_icp = icpOn(Device::Cuda, device_buffers);
-  std::array<double, kIcpRowSize> exact{}, magnitude{};
-  float row[kIcpRowSize];
+  std::array<double, normal_row::kSize> exact{}, magnitude{};
+  float row[normal_row::kSize];
   for (int i = 0; i < n; ++i) {
     if (!host_icp(i, row)) continue;
-    for (int c = 0; c < kIcpRowSize; ++c) exact[size_t(c)] += row[c], magnitude[size_t(c)] += std::abs(row[c]);
+    for (int c = 0; c < normal_row::kSize; ++c) exact[size_t(c)] += row[c], magnitude[size_t(c)] += std::abs(row[c]);
   }
-  ASSERT_GT(exact[28], 0.5 * n) << "too few correspondences for a meaningful test";
-  const auto cpu = parallelReduce<kIcpRowSize>(Device::Cpu, n, host_icp);
-  const auto gpu = parallelReduce<kIcpRowSize>(Device::Cuda, n, device_icp);
-  const auto gpu_again = parallelReduce<kIcpRowSize>(Device::Cuda, n, device_icp);
-  for (int c = 0; c < kIcpRowSize; ++c) {
+  ASSERT_GT(exact[normal_row::kInliers], 0.5 * n) << "too few correspondences for a meaningful test";
+  const auto cpu = parallelReduce<normal_row::kSize>(Device::Cpu, n, host_icp);
+  const auto gpu = parallelReduce<normal_row::kSize>(Device::Cuda, n, device_icp);
+  const auto gpu_again = parallelReduce<normal_row::kSize>(Device::Cuda, n, device_icp);
+  for (int c = 0; c < normal_row::kSize; ++c) {
     const double tolerance = 1e-5 * magnitude[size_t(c)] + 1e-9;
     EXPECT_NEAR(cpu[size_t(c)], exact[size_t(c)], tolerance) << "component " << c;
     EXPECT_NEAR(gpu[size_t(c)], exact[size_t(c)], tolerance) << "component " << c;
     EXPECT_EQ(gpu[size_t(c)], gpu_again[size_t(c)]) << "component " << c << ": the GPU reduction is not deterministic";
   }
-  EXPECT_EQ(gpu[28], exact[28]);  // counts are exact
-  EXPECT_EQ(gpu[29], exact[29]);
+  EXPECT_EQ(gpu[normal_row::kInliers], exact[normal_row::kInliers]);  // counts are exact
+  EXPECT_EQ(gpu[normal_row::kMeasured], exact[normal_row::kMeasured]);
   // Fewer rows than one block, and none.
-  const auto small_cpu = parallelReduce<kIcpRowSize>(Device::Cpu, 100, host_icp);
-  const auto small_gpu = parallelReduce<kIcpRowSize>(Device::Cuda, 100, device_icp);
-  EXPECT_EQ(small_gpu[29], small_cpu[29]);
-  for (int c = 0; c < kIcpRowSize; ++c)
+  const auto small_cpu = parallelReduce<normal_row::kSize>(Device::Cpu, 100, host_icp);
+  const auto small_gpu = parallelReduce<normal_row::kSize>(Device::Cuda, 100, device_icp);
+  EXPECT_EQ(small_gpu[normal_row::kMeasured], small_cpu[normal_row::kMeasured]);
+  for (int c = 0; c < normal_row::kSize; ++c)
     EXPECT_NEAR(small_gpu[size_t(c)], small_cpu[size_t(c)], 1e-5 * std::abs(small_cpu[size_t(c)]) + 1e-6);
 }
 

@@ -4,6 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <tuple>
+
+#include "brick_lookup.h"
 
 #include "fusion/pipeline.h"
 #include "io/class_table_io.h"
@@ -20,10 +23,9 @@ namespace vf {
 namespace {
 
 // Fuses `frames` evenly spread frames of a source with the given poses (or ICP when none).
-Scene fuse(const FrameSource& source, int frames, int dim, float voxel_m, bool with_classes,
-           PoseSource poses, ClassTable classes = {}) {
+Scene fuse(const FrameSource& source, int frames, float voxel_m, bool with_classes, PoseSource poses,
+           ClassTable classes = {}) {
   PipelineParams params;
-  params.volume.dims = {dim, dim, dim};
   params.volume.voxel_size_m = voxel_m;
   Pipeline pipeline(params, source.depthIntrinsics(), Device::Cpu, with_classes);
   const int step = std::max(1, source.size() / frames);
@@ -31,7 +33,7 @@ Scene fuse(const FrameSource& source, int frames, int dim, float voxel_m, bool w
   SceneMetadata meta;
   meta.classes = std::move(classes);
   meta.frame_count = frames;
-  return sceneFromDenseVolume(pipeline.hostVolume(), meta);
+  return sceneFromBricks(pipeline.hostVolume(), meta);
 }
 
 TEST(EditorOnRealData, ExcludingPersonRemovesExactlyItsFacesAndPerClassMeshesAddUp) {
@@ -41,7 +43,7 @@ TEST(EditorOnRealData, ExcludingPersonRemovesExactlyItsFacesAndPerClassMeshesAdd
   const ClassInfo* person = classes.findName("person");
   ASSERT_NE(person, nullptr);
   const LabeledFrameSource source(std::make_unique<Record3dCapture>(capture), labels, classes, MissingLabels::Error);
-  const Scene scene = fuse(source, 20, 256, 0.02f, true, PoseSource::Given, classes);
+  const Scene scene = fuse(source, 20, 0.02f, true, PoseSource::Given, classes);
   ASSERT_TRUE(scene.hasClasses());
 
   const TriangleMesh full = meshScene(scene);
@@ -67,41 +69,53 @@ TEST(EditorOnRealData, OutlierRemovalDropsInjectedBlobsAndKeepsTheFusedSurface) 
   VF_REQUIRE_DATA(folder, "tum_fr3_teddy_head60");
   const TumDataset source(folder);
   PipelineParams params;
-  params.volume.dims = {256, 256, 256};
   params.volume.voxel_size_m = 3.f / 256;
   Pipeline pipeline(params, source.depthIntrinsics(), Device::Cpu);
   for (int i = 0; i < 10; ++i) pipeline.processFrame(source.load(i));
-  const Scene clean = sceneFromDenseVolume(pipeline.hostVolume(), {});
+  const Scene clean = sceneFromBricks(pipeline.hostVolume(), {});
   const size_t clean_faces = meshScene(clean).triangleCount();
 
-  // Three small floating spheres of fused-looking TSDF in empty space: bricks no frame touched,
-  // with a brick of free margin so they cannot connect to the fused surface.
-  const VolumeView& v = pipeline.hostVolume().view();
+  // Three small floating spheres of fused-looking TSDF in empty space: new bricks, with two
+  // bricks of free margin so they cannot connect to the fused surface.
+  const BrickVolumeView fused = pipeline.hostVolume();
+  const test::BrickLookup lookup(fused);
+  HostBrickVolume v;
+  v.voxel_size_m = fused.voxel_size_m;
+  v.truncation_m = fused.truncation_m;
+  v.coords.assign(fused.coords, fused.coords + fused.brick_count);
+  v.tsdf.assign(fused.tsdf, fused.tsdf + fused.brick_count * kBrickVoxels);
+  v.color.assign(fused.color, fused.color + fused.brick_count * kBrickVoxels);
   auto emptyAround = [&](const Vec3i& c) {
-    for (int bz = (c.z >> 3) - 2; bz <= (c.z >> 3) + 2; ++bz)
-      for (int by = (c.y >> 3) - 2; by <= (c.y >> 3) + 2; ++by)
-        for (int bx = (c.x >> 3) - 2; bx <= (c.x >> 3) + 2; ++bx) {
-          if (bx < 0 || by < 0 || bz < 0 || bx >= v.bricks.x || by >= v.bricks.y || bz >= v.bricks.z) return false;
-          if (v.brick_stamp[v.brickIndex(bx, by, bz)] != 0) return false;
-        }
+    for (int bz = (c.z >> 3) - 3; bz <= (c.z >> 3) + 3; ++bz)
+      for (int by = (c.y >> 3) - 3; by <= (c.y >> 3) + 3; ++by)
+        for (int bx = (c.x >> 3) - 3; bx <= (c.x >> 3) + 3; ++bx)
+          if (lookup.hasBrick({bx, by, bz})) return false;
     return true;
   };
   std::vector<Vec3i> centres;
   for (int z = 36; z < 220 && centres.size() < 3; z += 60)
-    for (int y = 36; y < 220 && centres.size() < 3; y += 60)
-      for (int x = 36; x < 220 && centres.size() < 3; x += 60)
+    for (int y = -92; y < 92 && centres.size() < 3; y += 60)
+      for (int x = -92; x < 92 && centres.size() < 3; x += 60)
         if (emptyAround({x, y, z})) centres.push_back({x, y, z});
   ASSERT_EQ(centres.size(), 3u) << "no empty space found for the blobs";
+  std::map<std::tuple<int, int, int>, size_t> added;
   for (const Vec3i& c : centres)
     for (int z = c.z - 6; z <= c.z + 6; ++z)
       for (int y = c.y - 6; y <= c.y + 6; ++y)
         for (int x = c.x - 6; x <= c.x + 6; ++x) {
+          const Vec3i b = brickOfVoxel(x, y, z);
+          auto [it, inserted] = added.try_emplace({b.x, b.y, b.z}, v.coords.size());
+          if (inserted) {
+            v.coords.push_back(b);
+            v.tsdf.resize(v.tsdf.size() + kBrickVoxels, TsdfVoxel{0, 0});
+            v.color.resize(v.color.size() + kBrickVoxels, Rgb8{0, 0, 0, 0});
+          }
           const float r = std::sqrt(float((x - c.x) * (x - c.x) + (y - c.y) * (y - c.y) + (z - c.z) * (z - c.z)));
           const float sdf_vox = r - 3.f;
-          v.brick_stamp[v.brickIndex(x >> 3, y >> 3, z >> 3)] = 1000;
-          v.tsdf[v.voxelIndex(x, y, z)] = {int16_t(std::max(-1.f, std::min(1.f, sdf_vox / 5.f)) * kTsdfScale), 5};
+          v.tsdf[it->second * kBrickVoxels + size_t(localVoxelIndex(x, y, z))] = {
+              int16_t(std::max(-1.f, std::min(1.f, sdf_vox / 5.f)) * kTsdfScale), 5};
         }
-  Scene noisy = sceneFromDenseVolume(pipeline.hostVolume(), {});
+  Scene noisy = sceneFromBricks(v.view(), {});
   const size_t noisy_faces = meshScene(noisy).triangleCount();
   ASSERT_GT(noisy_faces, clean_faces + 100) << "the blobs should add surface";
 

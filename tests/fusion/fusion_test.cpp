@@ -1,53 +1,81 @@
 // Numbers the fusion stages must reproduce on analytic scenes with known answers.
 #include <gtest/gtest.h>
 
+#include <tbb/global_control.h>
+
+#include <functional>
+#include <limits>
+
+#include "brick_lookup.h"
+#include "core/error.h"
 #include "fusion/pipeline.h"
-#include "fusion/volume_sampling.h"
 #include "synthetic_scene.h"
+#include "test_data.h"
 
 namespace vf {
 namespace {
 
+using test::BrickLookup;
 using test::poseFrom;
 using test::roomCorner;
 using test::SyntheticScene;
 using test::testCamera;
 
-PipelineParams smallVolume(int dim, float extent_m) {
+PipelineParams withVoxel(float voxel_size_m) {
   PipelineParams p;
-  p.volume.dims = {dim, dim, dim};
-  p.volume.voxel_size_m = extent_m / float(dim);
+  p.volume.voxel_size_m = voxel_size_m;
   return p;
 }
 
 // Normalised TSDF along the voxel column through (x, y), interpolated to the zero crossing.
-double zeroCrossingZ(const VolumeView& v, int x, int y) {
-  for (int z = 0; z + 1 < v.dims.z; ++z) {
-    const size_t a = v.voxelIndex(x, y, z), b = v.voxelIndex(x, y, z + 1);
-    if (v.tsdf[a].weight == 0 || v.tsdf[b].weight == 0) continue;
-    const double sa = v.tsdf[a].tsdf, sb = v.tsdf[b].tsdf;
+double zeroCrossingZ(const BrickLookup& v, int x, int y, int z_end) {
+  for (int z = 0; z + 1 < z_end; ++z) {
+    const TsdfVoxel a = v.tsdf(x, y, z), b = v.tsdf(x, y, z + 1);
+    if (a.weight == 0 || b.weight == 0) continue;
+    const double sa = a.tsdf, sb = b.tsdf;
     if (sa > 0 && sb <= 0) {
       const double t = sa / (sa - sb);
-      return v.voxelCenter(x, y, z).z + t * v.voxel_size_m;
+      return v.voxelCenter(x, y, z).z + t * v.view().voxel_size_m;
     }
   }
   return NAN;
+}
+
+// Every voxel of `a` equals the voxel at the same coordinate in `b`, and both hold the same bricks.
+void expectSameVoxels(const BrickLookup& a, const BrickLookup& b) {
+  ASSERT_EQ(a.brickCount(), b.brickCount());
+  const BrickVolumeView& va = a.view();
+  size_t differing = 0;
+  for (size_t n = 0; n < va.brick_count; ++n) {
+    const Vec3i c = va.coords[n];
+    ASSERT_TRUE(b.hasBrick(c)) << "brick " << c.x << "," << c.y << "," << c.z;
+    for (int i = 0; i < kBrickVoxels; ++i) {
+      const Vec3i o = localVoxelOffset(i);
+      const int64_t j = b.find(c.x * kBrickSize + o.x, c.y * kBrickSize + o.y, c.z * kBrickSize + o.z);
+      const TsdfVoxel x = va.tsdf[n * kBrickVoxels + i], y = b.view().tsdf[j];
+      const Rgb8 cx = va.color[n * kBrickVoxels + i], cy = b.view().color[j];
+      differing += x.tsdf != y.tsdf || x.weight != y.weight || cx.r != cy.r || cx.g != cy.g || cx.b != cy.b ||
+                   cx.a != cy.a;
+    }
+  }
+  EXPECT_EQ(differing, 0u);
 }
 
 TEST(Integration, PlaneAtHalfMetreHasItsZeroCrossingThereWithinHalfAVoxel) {
   SyntheticScene plane;
   plane.planes.push_back({Eigen::Vector3d(0, 0, -1), -0.5});  // z = 0.5 m
   const Intrinsics k = testCamera();
-  PipelineParams params = smallVolume(128, 1.0f);
-  Pipeline pipeline(params, k, Device::Cpu);
+  const float voxel = 1.0f / 128;
+  Pipeline pipeline(withVoxel(voxel), k, Device::Cpu);
   for (int i = 0; i < 3; ++i) pipeline.processFrame(plane.render(k, Pose::Identity()));
-  const VolumeView& v = pipeline.hostVolume().view();
+  const BrickLookup v(pipeline.hostVolume());
   int checked = 0;
-  for (int y = 40; y < 90; y += 7)
-    for (int x = 40; x < 90; x += 7) {
-      const double z = zeroCrossingZ(v, x, y);
+  // Columns on both sides of the optical axis: negative voxel coordinates are as good as any.
+  for (int y = -24; y < 26; y += 7)
+    for (int x = -24; x < 26; x += 7) {
+      const double z = zeroCrossingZ(v, x, y, 128);
       ASSERT_TRUE(std::isfinite(z)) << "no zero crossing in column " << x << "," << y;
-      EXPECT_NEAR(z, 0.5, 0.5 * v.voxel_size_m);
+      EXPECT_NEAR(z, 0.5, 0.5 * voxel);
       ++checked;
     }
   EXPECT_GT(checked, 40);
@@ -60,7 +88,7 @@ TEST(Raycast, FusedSphereIsFoundAtItsRadiusWithinOneVoxel) {
   const double radius = 0.25;
   scene.spheres.push_back({center, radius});
   const Intrinsics k = testCamera();
-  Pipeline pipeline(smallVolume(256, 2.0f), k, Device::Cpu);
+  Pipeline pipeline(withVoxel(2.0f / 256), k, Device::Cpu);
   const Pose pose = Pose::Identity();
   pipeline.processFrame(scene.render(k, pose), PoseSource::Icp);
   const Prediction pred = pipeline.predictFrom(pose, false);
@@ -86,10 +114,7 @@ TEST(Raycast, FusedSphereIsFoundAtItsRadiusWithinOneVoxel) {
 TEST(Tracking, IcpRecoversAKnownSixDofMotionWithinAMillimetreAndATenthOfADegree) {
   const SyntheticScene scene = roomCorner();
   const Intrinsics k = testCamera(320, 240);
-  PipelineParams params = smallVolume(256, 2.5f);
-  params.place_like_kinectfusion = false;
-  params.volume.origin_m = {-1.25f, -1.0f, 0.2f};
-  Pipeline pipeline(params, k, Device::Cpu);
+  Pipeline pipeline(withVoxel(2.5f / 256), k, Device::Cpu);
   const Pose truth = poseFrom(1.2, -1.5, 0.8, 0.015, -0.01, 0.02);
   pipeline.processFrame(scene.render(k, Pose::Identity()));
   const FrameResult r = pipeline.processFrame(scene.render(k, truth));
@@ -102,7 +127,7 @@ TEST(Tracking, IcpRecoversAKnownSixDofMotionWithinAMillimetreAndATenthOfADegree)
 TEST(Tracking, AFrameWithNoDepthIsReportedLostAndKeepsTheLastPose) {
   const SyntheticScene scene = roomCorner();
   const Intrinsics k = testCamera(160, 120);
-  Pipeline pipeline(smallVolume(128, 2.5f), k, Device::Cpu);
+  Pipeline pipeline(withVoxel(2.5f / 128), k, Device::Cpu);
   pipeline.processFrame(scene.render(k, Pose::Identity()));
   RgbdFrame empty = scene.render(k, Pose::Identity());
   std::fill(empty.depth.data(), empty.depth.data() + k.width * k.height, 0.f);
@@ -116,7 +141,7 @@ TEST(Tracking, AFrameWithNoDepthIsReportedLostAndKeepsTheLastPose) {
 TEST(Tracking, AWildJumpIsRejectedAsTrackingLoss) {
   const SyntheticScene scene = roomCorner();
   const Intrinsics k = testCamera(160, 120);
-  Pipeline pipeline(smallVolume(128, 2.5f), k, Device::Cpu);
+  Pipeline pipeline(withVoxel(2.5f / 128), k, Device::Cpu);
   pipeline.processFrame(scene.render(k, Pose::Identity()));
   // A view from far to the side: little overlap, ICP cannot explain it.
   const FrameResult r = pipeline.processFrame(scene.render(k, poseFrom(0, 60, 0, 0.8, 0, 0.5)));
@@ -124,17 +149,97 @@ TEST(Tracking, AWildJumpIsRejectedAsTrackingLoss) {
   EXPECT_FALSE(r.lost_reason.empty());
 }
 
-TEST(Volume, UntouchedBricksStayUnobserved) {
+TEST(Volume, BricksAreAllocatedOnlyAlongTheObservedSurface) {
   SyntheticScene plane;
   plane.planes.push_back({Eigen::Vector3d(0, 0, -1), -0.5});
   const Intrinsics k = testCamera(160, 120);
-  Pipeline pipeline(smallVolume(128, 1.0f), k, Device::Cpu);
+  Pipeline pipeline(withVoxel(1.0f / 128), k, Device::Cpu);
   pipeline.processFrame(plane.render(k, Pose::Identity()));
-  const DenseVolume& vol = pipeline.hostVolume();
-  const auto bricks = vol.observedBricks();
-  // A plane of about 1 m x 0.75 m at 7.8 mm voxels touches a thin slab of bricks, not the volume.
-  EXPECT_GT(bricks.size(), 100u);
-  EXPECT_LT(bricks.size(), size_t(vol.view().brickCount()) / 8);
+  const BrickLookup v(pipeline.hostVolume());
+  // The plane seen is 0.625 x 0.47 m at 0.5 m: 10 x 8 bricks of 6.25 cm across, a band of at
+  // most 4 bricks deep around z = 0.5 m (brick layers 6 to 9: the truncation and the marking margin).
+  EXPECT_GT(v.brickCount(), 10u * 8u);
+  EXPECT_LE(v.brickCount(), 12u * 10u * 4u);
+  for (size_t n = 0; n < v.brickCount(); ++n) {
+    const Vec3i b = v.view().coords[n];
+    EXPECT_GE(b.z, 6) << "a brick far in front of the plane";
+    EXPECT_LE(b.z, 9) << "a brick far behind the plane";
+  }
+  EXPECT_EQ(pipeline.brickCount(), int(v.brickCount()));
+}
+
+TEST(Volume, TheSameFramesGiveTheSameVoxelsWhateverTheThreadCountOrHashSize) {
+  // Bricks land in the hash and the pool in the order threads reach them; the voxels must not
+  // depend on it. A pipeline on one thread against one on all, each camera looking from an offset
+  // so that some bricks have negative coordinates.
+  const SyntheticScene scene = roomCorner();
+  const Intrinsics k = testCamera(160, 120);
+  auto fuse = [&](int threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+    auto pipeline = std::make_unique<Pipeline>(withVoxel(0.01f), k, Device::Cpu);
+    for (int i = 0; i < 4; ++i) pipeline->processFrame(scene.render(k, poseFrom(0, 3.0 * i, 0, 0.02 * i, 0, 0)));
+    return pipeline;
+  };
+  auto serial = fuse(1);
+  auto parallel = fuse(8);
+  EXPECT_EQ(serial->framesLost(), 0);
+  EXPECT_TRUE(serial->pose().isApprox(parallel->pose(), 0.0));
+  const BrickLookup a(serial->hostVolume()), b(parallel->hostVolume());
+  EXPECT_GT(a.brickCount(), 500u);
+  expectSameVoxels(a, b);
+}
+
+TEST(Volume, AFullPoolStopsAllocatingAndSaysSo) {
+  SyntheticScene plane;
+  plane.planes.push_back({Eigen::Vector3d(0, 0, -1), -0.5});
+  const Intrinsics k = testCamera(160, 120);
+  PipelineParams params = withVoxel(1.0f / 128);
+  params.volume.max_bricks = 50;
+  Pipeline pipeline(params, k, Device::Cpu);
+  const FrameResult r = pipeline.processFrame(plane.render(k, Pose::Identity()));
+  EXPECT_TRUE(r.volume_full);
+  EXPECT_EQ(pipeline.brickCount(), 50);
+}
+
+TEST(Volume, ParametersThatCannotWorkAreRefusedNamingTheField) {
+  const Intrinsics k = testCamera(160, 120);
+  PipelineParams p = withVoxel(0.f);
+  EXPECT_NE(test::errorOf([&] { Pipeline(p, k, Device::Cpu); }).find("VolumeSpec.voxel_size_m = 0"), std::string::npos);
+  p = withVoxel(1e-9f);
+  EXPECT_NE(test::errorOf([&] { Pipeline(p, k, Device::Cpu); }).find("VolumeSpec.voxel_size_m"), std::string::npos);
+  p = withVoxel(0.01f);
+  p.volume.truncation_m = 1e9f;
+  EXPECT_NE(test::errorOf([&] { Pipeline(p, k, Device::Cpu); }).find("VolumeSpec.truncation_m"), std::string::npos);
+  p = withVoxel(0.01f);
+  Intrinsics wild = k;
+  wild.cx = 1e9f;
+  EXPECT_NE(test::errorOf([&] { Pipeline(p, wild, Device::Cpu); }).find("Intrinsics.cx"), std::string::npos);
+}
+
+TEST(Volume, DepthBeyondTheMaximumRangeIsNeitherMarkedNorFused) {
+  // Readings of a million metres (a broken sensor), infinity and NaN must cost nothing: no brick,
+  // no endless walk along the ray. A reading within range does add its band.
+  SyntheticScene plane;
+  plane.planes.push_back({Eigen::Vector3d(0, 0, -1), -0.5});
+  const Intrinsics k = testCamera(160, 120);
+  const RgbdFrame clean = plane.render(k, Pose::Identity());
+  auto bricksAfter = [&](const std::function<void(RgbdFrame&)>& damage) {
+    Pipeline pipeline(withVoxel(1.0f / 128), k, Device::Cpu);
+    RgbdFrame frame = clean;
+    damage(frame);
+    pipeline.processFrame(frame);
+    return pipeline.brickCount();
+  };
+  const int reference = bricksAfter([](RgbdFrame&) {});
+  const int absurd = bricksAfter([](RgbdFrame& f) {
+    f.depth(80, 60) = 1.0e6f;
+    f.depth(82, 60) = std::numeric_limits<float>::infinity();
+    f.depth(84, 60) = std::numeric_limits<float>::quiet_NaN();
+    f.depth(86, 60) = -3.f;
+  });
+  const int far_but_valid = bricksAfter([](RgbdFrame& f) { f.depth(10, 10) = 3.9f; });
+  EXPECT_EQ(absurd, reference);
+  EXPECT_GT(far_but_valid, reference);
 }
 
 }  // namespace

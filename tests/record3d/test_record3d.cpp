@@ -211,7 +211,9 @@ TEST(Record3dArchive, BrokenEntriesThrowNamingFileAndEntry) {
     });
     EXPECT_NE(msg.find(path), std::string::npos) << c.name << ": " << msg;
     EXPECT_NE(msg.find(c.entry), std::string::npos) << c.name << ": " << msg;
-    if (!c.at_open) EXPECT_NO_THROW(Record3dCapture(path).load(0)) << c.name;
+    if (!c.at_open) {
+      EXPECT_NO_THROW(Record3dCapture(path).load(0)) << c.name;
+    }
   }
 }
 

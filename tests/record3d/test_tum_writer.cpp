@@ -105,24 +105,40 @@ TEST(TumWriter, FiveRecord3dFramesRoundTrip) {
     EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();
 }
 
-TEST(TumWriter, RefusesANonEmptyFolderUnlessForced) {
+// A source whose frame `bad` cannot be read, as a damaged capture would be.
+class FailingSource : public FrameSource {
+ public:
+  FailingSource(const FrameSource& inner, int bad) : inner_(inner), bad_(bad) {}
+  int size() const override { return 3; }
+  RgbdFrame load(int index) const override {
+    if (index == bad_) throw Error("frame " + std::to_string(index) + " is damaged");
+    return inner_.load(index);
+  }
+  Intrinsics depthIntrinsics() const override { return inner_.depthIntrinsics(); }
+  std::string description() const override { return "failing source"; }
+
+ private:
+  const FrameSource& inner_;
+  int bad_;
+};
+
+TEST(TumWriter, ReplacesTheFolderOnlyOnceEveryFileIsWritten) {
   VF_REQUIRE_DATA(r3d, "record3d_dance_head200.r3d");
   Record3dCapture cap(r3d);
-  const std::string dir = test::tempDir("tum_writer_force");
-  std::ofstream(dir + "/keep.txt") << "user data";
+  const std::string dir = test::tempDir("tum_writer_replace") + "/out";
+  fs::create_directories(dir);
+  std::ofstream(dir + "/keep.txt") << "the previous output";
+  // A read error half-way: the old folder stays as it was and no temporary is left.
+  EXPECT_THROW(writeTumFolder(FailingSource(cap, 1), dir), Error);
+  EXPECT_TRUE(fs::exists(dir + "/keep.txt"));
+  EXPECT_FALSE(fs::exists(dir + "/depth.txt"));
+  for (const auto& e : fs::directory_iterator(fs::path(dir).parent_path()))
+    EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << e.path();
+  // A complete write replaces the folder as a whole.
   TumWriteOptions options;
   options.max_frames = 1;
-  try {
-    writeTumFolder(cap, dir, options);
-    FAIL();
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find(dir), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("--force"), std::string::npos) << e.what();
-  }
-  EXPECT_FALSE(fs::exists(dir + "/depth.txt"));
-  options.force = true;
   EXPECT_EQ(writeTumFolder(cap, dir, options).frames, 1);
-  EXPECT_TRUE(fs::exists(dir + "/keep.txt"));
+  EXPECT_FALSE(fs::exists(dir + "/keep.txt"));
   EXPECT_EQ(dataLines(dir + "/depth.txt").size(), 1u);
 }
 

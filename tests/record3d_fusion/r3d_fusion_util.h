@@ -1,6 +1,5 @@
 #pragma once
-// Fusing the shared Record3D capture in tests and evaluation tools: the phone's poses expressed
-// in the pipeline's world (the first frame's camera), and a run of the pipeline over frames.
+// Fusing the shared Record3D capture in tests and evaluation tools.
 #include <memory>
 #include <string>
 #include <vector>
@@ -13,17 +12,11 @@
 
 namespace vf::test {
 
-// Room-sized volume: 512^3 voxels of 1 cm (5.12 m), the first camera centred on its front face.
-inline PipelineParams roomParams(int dims = 512, float voxel_m = 0.01f) {
+// 1 cm voxels: the room at the detail the tests need, fast.
+inline PipelineParams roomParams(float voxel_m = 0.01f) {
   PipelineParams p;
-  p.volume.dims = {dims, dims, dims};
   p.volume.voxel_size_m = voxel_m;
   return p;
-}
-
-// The phone's pose of `frame`, re-expressed relative to `first` (frame 0) as the pipeline does.
-inline Pose phonePose(const RgbdFrame& first, const RgbdFrame& frame) {
-  return first.T_world_cam_given->inverse() * *frame.T_world_cam_given;
 }
 
 // The capture, with the person masks attached when `labels_dir` is not empty.

@@ -51,7 +51,6 @@ TEST(Record3dFusion, GivenPosesFuseOneCoherentRoomThatPredictsHeldOutFrames) {
   const auto source = test::openDance(capture, labels, labels + "/classes.json");
   Pipeline pipeline(test::roomParams(), source->depthIntrinsics(), Device::Cpu, true);
   pipeline.setDynamicClasses({kPerson});
-  const RgbdFrame first = source->load(0);
   // 20 fused frames (even indices 0..38); the odd frames between them are held out.
   for (int i = 0; i < 40; i += 2) {
     const FrameResult r = pipeline.processFrame(source->load(i), PoseSource::Given);
@@ -59,7 +58,7 @@ TEST(Record3dFusion, GivenPosesFuseOneCoherentRoomThatPredictsHeldOutFrames) {
   }
   for (int k : {1, 9, 19, 29, 39}) {
     const RgbdFrame frame = source->load(k);
-    const Pose pose = test::phonePose(first, frame);
+    const Pose pose = *frame.T_world_cam_given;  // --poses given fuses in the phone's world frame
     const std::vector<float> r = depthResiduals(pipeline.predictFrom(pose, false), frame, pose, 4);
     const float median = quantile(r, 0.5), p90 = quantile(r, 0.9);
     std::printf("held-out frame %d: %zu pixels, median |dz| %.1f mm, 90%% %.1f mm\n", k, r.size(), 1e3f * median,
@@ -77,14 +76,13 @@ TEST(Record3dFusion, IcpWithPersonMaskedTracksTheFirstThirtyFramesLikeThePhone) 
   const auto source = test::openDance(capture, labels, labels + "/classes.json");
   Pipeline pipeline(test::roomParams(), source->depthIntrinsics(), Device::Cpu, true);
   pipeline.setDynamicClasses({kPerson});
-  const RgbdFrame first = source->load(0);
   Trajectory estimate, phone;
   for (int i = 0; i < 30; ++i) {
     const RgbdFrame frame = source->load(i);
     const FrameResult r = pipeline.processFrame(frame, PoseSource::Icp);
     EXPECT_TRUE(i == 0 || r.tracked) << "frame " << i << ": " << r.lost_reason;
     estimate.push_back({frame.timestamp, r.T_world_cam});
-    phone.push_back({frame.timestamp, test::phonePose(first, frame)});
+    phone.push_back({frame.timestamp, *frame.T_world_cam_given});
   }
   const AteResult ate = computeAte(estimate, phone);
   // Path length, to put the error in proportion.

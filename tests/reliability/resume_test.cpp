@@ -1,6 +1,7 @@
-// Checkpoint and resume (fusion/pipeline_state.h) on real data, CPU backend: a run stopped after
-// frame k and resumed from its checkpoint ends with the same volume, voxel for voxel, and the
-// same poses, bit for bit, as a run that never stopped. Runs must also be deterministic.
+// Checkpoint and resume (fusion/checkpoint.h, fusion/reconstruction.h) on real data, CPU backend:
+// a run stopped after frame k and resumed from its checkpoint ends with the same volume, voxel
+// for voxel, and the same poses, bit for bit, as a run that never stopped. Runs must also be
+// deterministic.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -9,7 +10,8 @@
 #include <iterator>
 
 #include "core/error.h"
-#include "fusion/pipeline_state.h"
+#include "fusion/checkpoint.h"
+#include "fusion/reconstruction.h"
 #include "io/tum_dataset.h"
 #include "reliability/volume_compare.h"
 #include "test_data.h"
@@ -60,12 +62,21 @@ TEST_F(ResumeTest, ResumedRunEqualsUninterruptedRun) {
     {
       Pipeline first(test::teddyParams(), data_->depthIntrinsics(), Device::Cpu);
       poses = fuse(first, *data_, 0, stop);
-      savePipelineState(first, path, "app data\nline 2");
+      RunProgress progress;
+      progress.settings = {{"dataset", "teddy"}, {"note", "line 1\nline 2"}};
+      progress.frames_done = stop;
+      for (int i = 0; i < stop; ++i) progress.trajectory.push_back({0.5 * i, poses[size_t(i)]});
+      progress.lost = {"frame 3: a reason"};
+      writeCheckpoint(path, first, progress);
     }
     Pipeline resumed(test::teddyParams(), data_->depthIntrinsics(), Device::Cpu);
-    std::string annotations;
-    restorePipelineState(resumed, path, &annotations);
-    EXPECT_EQ(annotations, "app data\nline 2");
+    const RunProgress saved = readCheckpoint(path, resumed, {{"dataset", "teddy"}});
+    EXPECT_EQ(saved.settings.size(), 2u);
+    EXPECT_EQ(saved.settings[1].second, "line 1\nline 2");
+    ASSERT_EQ(saved.trajectory.size(), size_t(stop));
+    EXPECT_TRUE(test::sameBits(saved.trajectory.back().T_world_cam, poses.back()));
+    EXPECT_EQ(saved.trajectory.back().timestamp, 0.5 * (stop - 1));
+    EXPECT_EQ(saved.lost, std::vector<std::string>{"frame 3: a reason"});
     EXPECT_EQ(resumed.framesProcessed(), stop);
     const std::vector<Pose> rest = fuse(resumed, *data_, stop, kFrames);
     poses.insert(poses.end(), rest.begin(), rest.end());
@@ -74,8 +85,42 @@ TEST_F(ResumeTest, ResumedRunEqualsUninterruptedRun) {
       EXPECT_TRUE(test::sameBits(poses[size_t(i)], reference[size_t(i)])) << "frame " << i;
     EXPECT_EQ(resumed.framesLost(), full.framesLost());
     EXPECT_EQ(test::firstDifferentBrick(resumed.hostVolume(), full.hostVolume()), -1);
-    EXPECT_GT(full.hostVolume().observedBricks().size(), 100u);
+    EXPECT_GT(full.brickCount(), 100);
   }
+}
+
+TEST_F(ResumeTest, AReconstructionStoppedAndResumedEndsAsOneThatRanThrough) {
+  ReconstructionOptions options;
+  options.params = test::teddyParams();
+  options.device = Device::Cpu;
+  options.max_frames = kFrames;
+  options.settings = {{"dataset", "teddy"}};
+  Reconstruction through(*data_, options);
+  ASSERT_EQ(through.run({}), Reconstruction::Outcome::Finished);
+  const std::string path = dir_ + "/stopped.checkpoint";
+  {
+    Reconstruction stopped(*data_, options);
+    Reconstruction::Callbacks callbacks;
+    int frames_seen = 0;
+    callbacks.on_frame = [&](const RgbdFrame&, const FrameResult&) { ++frames_seen; };
+    callbacks.should_stop = [&] { return stopped.framesDone() == 6; };
+    ASSERT_EQ(stopped.run(callbacks), Reconstruction::Outcome::Stopped);
+    EXPECT_EQ(frames_seen, 6);
+    stopped.saveCheckpoint(path);
+  }
+  Reconstruction resumed(*data_, options);
+  resumed.resume(path);
+  EXPECT_EQ(resumed.framesDone(), 6);
+  ASSERT_EQ(resumed.run({}), Reconstruction::Outcome::Finished);
+  ASSERT_EQ(resumed.trajectory().size(), through.trajectory().size());
+  for (size_t i = 0; i < through.trajectory().size(); ++i)
+    EXPECT_TRUE(test::sameBits(resumed.trajectory()[i].T_world_cam, through.trajectory()[i].T_world_cam)) << i;
+  EXPECT_EQ(test::firstDifferentBrick(resumed.pipeline().hostVolume(), through.pipeline().hostVolume()), -1);
+  // Other settings: the checkpoint is not continued.
+  options.settings = {{"dataset", "another"}};
+  Reconstruction other(*data_, options);
+  EXPECT_NE(test::errorOf([&] { other.resume(path); }).find("dataset = teddy, this run has dataset = another"),
+            std::string::npos);
 }
 
 TEST_F(ResumeTest, MismatchingOrDamagedCheckpointIsRefusedWithAReason) {
@@ -83,7 +128,10 @@ TEST_F(ResumeTest, MismatchingOrDamagedCheckpointIsRefusedWithAReason) {
   {
     Pipeline p(test::teddyParams(), data_->depthIntrinsics(), Device::Cpu);
     fuse(p, *data_, 0, 3);
-    savePipelineState(p, path);
+    RunProgress progress;
+    progress.frames_done = 3;
+    progress.trajectory.resize(3);
+    writeCheckpoint(path, p, progress);
   }
   auto message = [](const std::function<void()>& f) {
     try {
@@ -93,18 +141,19 @@ TEST_F(ResumeTest, MismatchingOrDamagedCheckpointIsRefusedWithAReason) {
     }
     return std::string("no error");
   };
-  // Another volume size.
-  Pipeline other(test::teddyParams(64), data_->depthIntrinsics(), Device::Cpu);
-  EXPECT_NE(message([&] { restorePipelineState(other, path); }).find("--volume-size"), std::string::npos);
+  auto restore = [](Pipeline& p, const std::string& file) { readCheckpoint(file, p, {}); };
+  // Another voxel size.
+  Pipeline other(test::teddyParams(0.01f), data_->depthIntrinsics(), Device::Cpu);
+  EXPECT_NE(message([&] { restore(other, path); }).find("holds voxels of 0.005859 m"), std::string::npos);
   // Another camera.
   Intrinsics k = data_->depthIntrinsics();
   k.fx += 1.f;
   Pipeline camera(test::teddyParams(), k, Device::Cpu);
-  EXPECT_NE(message([&] { restorePipelineState(camera, path); }).find("another camera"), std::string::npos);
+  EXPECT_NE(message([&] { restore(camera, path); }).find("another camera"), std::string::npos);
   // A pipeline that already fused a frame.
   Pipeline busy(test::teddyParams(), data_->depthIntrinsics(), Device::Cpu);
   fuse(busy, *data_, 0, 1);
-  EXPECT_NE(message([&] { restorePipelineState(busy, path); }).find("before its first frame"), std::string::npos);
+  EXPECT_NE(message([&] { restore(busy, path); }).find("before its first frame"), std::string::npos);
   // One flipped byte, and a truncated copy.
   std::ifstream in(path, std::ios::binary);
   std::vector<char> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
@@ -113,11 +162,11 @@ TEST_F(ResumeTest, MismatchingOrDamagedCheckpointIsRefusedWithAReason) {
   std::ofstream(dir_ + "/flipped.checkpoint", std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
   std::ofstream(dir_ + "/short.checkpoint", std::ios::binary).write(bytes.data(), std::streamsize(bytes.size() / 3));
   Pipeline fresh(test::teddyParams(), data_->depthIntrinsics(), Device::Cpu);
-  EXPECT_NE(message([&] { restorePipelineState(fresh, dir_ + "/flipped.checkpoint"); }).find("checksum"),
+  EXPECT_NE(message([&] { restore(fresh, dir_ + "/flipped.checkpoint"); }).find("checksum"),
             std::string::npos);
-  EXPECT_NE(message([&] { restorePipelineState(fresh, dir_ + "/short.checkpoint"); }).find("short.checkpoint"),
+  EXPECT_NE(message([&] { restore(fresh, dir_ + "/short.checkpoint"); }).find("short.checkpoint"),
             std::string::npos);
-  EXPECT_NE(message([&] { restorePipelineState(fresh, dir_ + "/missing.checkpoint"); }).find("does not exist"),
+  EXPECT_NE(message([&] { restore(fresh, dir_ + "/missing.checkpoint"); }).find("does not exist"),
             std::string::npos);
   EXPECT_EQ(fresh.framesProcessed(), 0);
 }

@@ -29,7 +29,7 @@ TEST(TrackingFailure, DroppedZeroAndNoiseFramesAreLostNotFusedAndAteStaysSmall) 
     const Damage d = (i == 22 || i == 45) ? Damage::ZeroDepth : (i == 30 || i == 50) ? Damage::NoiseDepth : Damage::None;
     sequence.push_back({i, d});
   }
-  Pipeline pipeline(test::teddyParams(256), data.depthIntrinsics(), Device::Cpu);
+  Pipeline pipeline(test::teddyParams(3.0f / 256), data.depthIntrinsics(), Device::Cpu);
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> noise(0.3f, 4.f);
   Trajectory estimate;
@@ -66,17 +66,15 @@ TEST(TrackingFailure, DroppedZeroAndNoiseFramesAreLostNotFusedAndAteStaysSmall) 
   EXPECT_EQ(pipeline.framesLost(), damaged_lost + intact_lost);
 
   // Every observed voxel has a weight in 1..max_weight and a TSDF within the truncation.
-  const DenseVolume& volume = pipeline.hostVolume();
-  const VolumeView& v = volume.view();
+  const BrickVolumeView v = pipeline.hostVolume();
   size_t observed = 0;
-  for (int brick : volume.observedBricks())
-    for (int k = 0; k < kBrickVoxels; ++k) {
-      const TsdfVoxel& voxel = v.tsdf[size_t(brick) * kBrickVoxels + size_t(k)];
-      if (voxel.weight == 0) continue;
-      ++observed;
-      ASSERT_LE(voxel.weight, pipeline.params().integration.max_weight);
-      ASSERT_TRUE(std::isfinite(v.sdfMetres(size_t(brick) * kBrickVoxels + size_t(k))));
-    }
+  for (size_t i = 0; i < v.brick_count * kBrickVoxels; ++i) {
+    const TsdfVoxel& voxel = v.tsdf[i];
+    if (voxel.weight == 0) continue;
+    ++observed;
+    ASSERT_LE(voxel.weight, pipeline.params().integration.max_weight);
+    ASSERT_TRUE(std::isfinite(v.sdfMetres(i)));
+  }
   EXPECT_GT(observed, 100000u);
 
   const AteResult ate = computeAte(estimate, data.groundTruth());

@@ -112,13 +112,12 @@ int main(int argc, char** argv) {
     const vf::ClassInfo* person = table.findName("person");
     if (!person) throw vf::Error(std::string(argv[2]) + "/classes.json has no class named person");
     std::vector<Frame> frames(size_t(source->size()));
-    vf::Pose first_inverse = vf::Pose::Identity();
+    // The scenes were fused with --poses given: in the phone's own world frame.
     for (int i = 0; i < source->size(); ++i) {
       vf::RgbdFrame f = source->load(i);
-      if (i == 0) first_inverse = f.T_world_cam_given->inverse();
       vf::LabelLookup l = labels.load(f.name, f.index, k.width, k.height);
       if (!l.labels) throw vf::Error("label map " + l.path + " not found");
-      frames[size_t(i)] = {std::move(f.depth), std::move(*l.labels), (first_inverse * *f.T_world_cam_given).inverse()};
+      frames[size_t(i)] = {std::move(f.depth), std::move(*l.labels), f.T_world_cam_given->inverse()};
     }
     Counts c[2];
     for (int s = 0; s < 2; ++s) {

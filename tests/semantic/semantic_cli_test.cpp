@@ -16,7 +16,7 @@ namespace fs = std::filesystem;
 
 std::string run(const std::string& command, int& status) { return test::runCommand(command, status); }
 
-const std::string kSmallVolume = " --volume-size 192 --voxel-size-m 0.02 -q -f";
+const std::string kSmallVolume = " --voxel-size-m 0.02 -q -f";
 
 TEST(ReconstructLabels, PersonMasksGiveAClassGridAndTheTableInTheScene) {
   VF_REQUIRE_DATA(capture, "record3d_dance_head200.r3d");

@@ -20,11 +20,11 @@ namespace fs = std::filesystem;
 std::string run(const std::string& command, int& status) { return test::runCommand(command, status); }
 
 std::string exportSphere(const std::string& name, TriangleMesh* full) {
-  DenseVolume volume(test::sphereSpec(), true);
+  test::SyntheticVolume volume(test::sphereSpec(), true);
   test::fillSdf(volume, test::sphereSdf({0, 0, 0}, 0.2f), 0.f);
   SceneMetadata meta;
   meta.classes.classes = {{test::kClassLeft, "chair", {255, 0, 0, 255}}, {test::kClassRight, "dining table", {0, 0, 255, 255}}};
-  const Scene scene = sceneFromDenseVolume(volume, meta);
+  const Scene scene = sceneFromBricks(volume.view(), meta);
   *full = meshScene(scene);
   const std::string dir = test::tempDir(name);
   writeScene(scene, dir + "/scene.vdb");

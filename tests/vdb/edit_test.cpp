@@ -23,7 +23,7 @@ using test::sphereSpec;
 constexpr float kRadius = 0.2f, kVoxel = 0.01f;
 
 Scene sphereScene(bool with_blobs, uint16_t blob_weight = 10) {
-  DenseVolume volume(sphereSpec(), true);
+  test::SyntheticVolume volume(sphereSpec(), true);
   fillSdf(volume, sphereSdf({0, 0, 0}, kRadius), 0.f);
   if (with_blobs) {  // three floating blobs of ~0.025 m, well away from the sphere
     fillSdf(volume, sphereSdf({0.25f, 0.25f, 0.25f}, 0.025f), 0.f, blob_weight);
@@ -32,7 +32,7 @@ Scene sphereScene(bool with_blobs, uint16_t blob_weight = 10) {
   }
   SceneMetadata meta;
   meta.classes.classes = {{test::kClassLeft, "chair", {255, 0, 0, 255}}, {test::kClassRight, "table", {0, 0, 255, 255}}};
-  return sceneFromDenseVolume(volume, meta);
+  return sceneFromBricks(volume.view(), meta);
 }
 
 size_t classVoxels(const Scene& scene, int id) {
@@ -125,13 +125,18 @@ TEST(SceneExport, PointCloudLiesOnTheSurfaceWithColors) {
   EXPECT_EQ(cloud.triangleCount(), 0u);
   for (size_t i = 0; i < cloud.vertexCount(); ++i) {
     EXPECT_NEAR(norm(cloud.positions[i]), kRadius, 0.25f * kVoxel);
-    if (cloud.positions[i].x > 1.5f * kVoxel) EXPECT_EQ(cloud.colors[i].g, 180);
+    if (cloud.positions[i].x > 1.5f * kVoxel) {
+      EXPECT_EQ(cloud.colors[i].g, 180);
+    }
   }
   MeshOptions by_class;
   by_class.color = MeshColorMode::kClass;
   const TriangleMesh classed = scenePointCloud(scene, by_class);
-  for (size_t i = 0; i < classed.vertexCount(); ++i)
-    if (classed.positions[i].x < -1.5f * kVoxel) EXPECT_EQ(classed.colors[i].r, 255);
+  for (size_t i = 0; i < classed.vertexCount(); ++i) {
+    if (classed.positions[i].x < -1.5f * kVoxel) {
+      EXPECT_EQ(classed.colors[i].r, 255);
+    }
+  }
 }
 
 }  // namespace

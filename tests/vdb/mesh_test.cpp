@@ -28,11 +28,11 @@ using test::sphereSpec;
 constexpr float kRadius = 0.2f, kVoxel = 0.01f;
 
 Scene sphereScene() {
-  DenseVolume volume(sphereSpec(), true);
+  test::SyntheticVolume volume(sphereSpec(), true);
   fillSdf(volume, sphereSdf({0, 0, 0}, kRadius), 0.f);
   SceneMetadata meta;
   meta.classes.classes = {{test::kClassLeft, "chair", {255, 0, 0, 255}}, {test::kClassRight, "table", {0, 0, 255, 255}}};
-  return sceneFromDenseVolume(volume, meta);
+  return sceneFromBricks(volume.view(), meta);
 }
 
 // Every undirected edge is used by exactly two faces, once in each direction.
@@ -79,10 +79,10 @@ TEST(Mesher, SphereVerticesLieOnTheRadiusAndTheSurfaceIsClosed) {
 }
 
 TEST(Mesher, MinWeightMasksWeaklyObservedVoxels) {
-  DenseVolume volume(sphereSpec(), false);
+  test::SyntheticVolume volume(sphereSpec(), false);
   fillSdf(volume, sphereSdf({0, 0, 0}, kRadius), 0.f, 10);
   fillSdf(volume, sphereSdf({0.22f, 0.22f, 0.22f}, 0.05f), 0.f, 1);  // weak blob
-  const Scene scene = sceneFromDenseVolume(volume, {});
+  const Scene scene = sceneFromBricks(volume.view(), {});
   const TriangleMesh all = meshScene(scene);
   MeshOptions strict;
   strict.min_weight = 2;
@@ -123,10 +123,10 @@ TEST(MeshOps, ExcludeRemovesExactlyThatClassAndPerClassSumsToTheWhole) {
 }
 
 TEST(MeshOps, MinComponentDropsSmallPieces) {
-  DenseVolume volume(sphereSpec(), false);
+  test::SyntheticVolume volume(sphereSpec(), false);
   fillSdf(volume, sphereSdf({0, 0, 0}, kRadius), 0.f);
   fillSdf(volume, sphereSdf({0.25f, 0.25f, 0.25f}, 0.03f), 0.f);
-  const Scene scene = sceneFromDenseVolume(volume, {});
+  const Scene scene = sceneFromBricks(volume.view(), {});
   TriangleMesh mesh = meshScene(scene);
   const size_t before = mesh.triangleCount();
   const size_t removed = removeSmallComponents(mesh, 2000);
@@ -171,7 +171,9 @@ TEST(MeshFiles, PlyObjGlbReimportWithSameCountsAndColors) {
     }
     EXPECT_EQ(faces, mesh.triangleCount()) << name;
     // PLY keeps one vertex array; OBJ/GLB split per class, so seam vertices appear in both parts.
-    if (std::string(name) == "m.ply") EXPECT_EQ(vertices, mesh.vertexCount());
+    if (std::string(name) == "m.ply") {
+      EXPECT_EQ(vertices, mesh.vertexCount());
+    }
     EXPECT_GE(vertices, mesh.vertexCount()) << name;
     EXPECT_LT(vertices, mesh.vertexCount() * 11 / 10) << name;
     size_t checked = 0;

@@ -1,15 +1,13 @@
 // Benchmark: 512^3 dense volume with a room-sized surface (floor, three walls, a table, two
 // spheres; ~3 m at 5.9 mm voxels) -> sparse scene -> mesh. Prints timings; writes the scene to
 // argv[1] (default /tmp/vdbfuse_bench_scene.vdb) so `vdbfuse mesh` can be timed on it.
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <string>
 
-#include "fusion/dense_volume.h"
+#include "synthetic_scene.h"
 #include "vdb/mesher.h"
 #include "vdb/scene.h"
 
@@ -43,25 +41,28 @@ double since(std::chrono::steady_clock::time_point t) {
 
 int main(int argc, char** argv) {
   const std::string out = argc > 1 ? argv[1] : "/tmp/vdbfuse_bench_scene.vdb";
-  VolumeSpec spec;  // 512^3, 3 m
-  DenseVolume volume(spec, true);
-  const VolumeView v = volume.view();
+  // A 3 m room at the default voxel (512^3 box voxels of 5.86 mm), filled slab by slab.
+  test::SyntheticSpec spec;
+  spec.dims = {512, 512, 512};
+  spec.voxel_size_m = 3.0f / 512;
+  spec.truncation_m = 5 * spec.voxel_size_m;
+  spec.origin_vox = {0, 0, 0};
+  test::SyntheticVolume volume(spec, true);
+  HostBrickVolume& v = volume.bricks();
   auto t = std::chrono::steady_clock::now();
-  tbb::parallel_for(0, v.dims.z, [&](int z) {
-    for (int y = 0; y < v.dims.y; ++y)
-      for (int x = 0; x < v.dims.x; ++x) {
-        const Vec3f p = v.voxelCenter(x, y, z);
+  for (int z = 0; z < spec.dims.z; ++z)
+    for (int y = 0; y < spec.dims.y; ++y)
+      for (int x = 0; x < spec.dims.x; ++x) {
+        const Vec3f p = volume.voxelCenter(x, y, z);
         const float d = roomSdf(p);
         // Fusion only writes voxels in front of the surface up to the truncation, and behind it.
-        if (std::fabs(d) >= v.truncation_m) continue;
-        const size_t i = v.voxelIndex(x, y, z);
-        v.tsdf[i] = {int16_t(std::lround(d / v.truncation_m * kTsdfScale)), uint16_t(5 + (x + y) % 20)};
+        if (std::fabs(d) >= spec.truncation_m) continue;
+        const size_t i = volume.voxel(x, y, z);
+        v.tsdf[i] = {int16_t(std::lround(d / spec.truncation_m * kTsdfScale)), uint16_t(5 + (x + y) % 20)};
         v.color[i] = {uint8_t(x / 2), uint8_t(y / 2), uint8_t(z / 2), 255};
         v.class_vote[i] = packClassVote(p.z < 0.15f ? 1u : p.z < 0.85f ? 2u : 3u, 9);
-        v.brick_stamp[v.brickIndex(x >> 3, y >> 3, z >> 3)] = 1;
       }
-  });
-  std::printf("fill (test setup)      %.2f s, %zu observed bricks\n", since(t), volume.observedBricks().size());
+  std::printf("fill (test setup)      %.2f s, %zu bricks\n", since(t), v.coords.size());
 
   SceneMetadata meta;
   meta.classes.classes = {{1, "floor", {120, 120, 120, 255}}, {2, "furniture", {160, 90, 40, 255}},
@@ -71,10 +72,10 @@ int main(int argc, char** argv) {
   Scene scene;
   for (int rep = 0; rep < 3; ++rep) {
     t = std::chrono::steady_clock::now();
-    scene = sceneFromDenseVolume(volume, meta);
+    scene = sceneFromBricks(volume.view(), meta);
     best = std::min(best, since(t));
   }
-  std::printf("dense -> sparse        %.3f s (best of 3), %zu active voxels\n", best, scene.activeVoxelCount());
+  std::printf("bricks -> grids        %.3f s (best of 3), %zu active voxels\n", best, scene.activeVoxelCount());
   t = std::chrono::steady_clock::now();
   writeScene(scene, out);
   std::printf("write %s  %.3f s\n", out.c_str(), since(t));

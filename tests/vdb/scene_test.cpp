@@ -27,28 +27,29 @@ SceneMetadata sampleMeta() {
   return m;
 }
 
-size_t countWeighted(const DenseVolume& volume) {
-  const VolumeView& v = volume.view();
+size_t countWeighted(const test::SyntheticVolume& volume) {
+  const BrickVolumeView v = volume.view();
   size_t n = 0;
-  for (size_t i = 0; i < size_t(v.dims.x) * v.dims.y * v.dims.z; ++i) n += v.tsdf[i].weight > 0;
+  for (size_t i = 0; i < v.brick_count * kBrickVoxels; ++i) n += v.tsdf[i].weight > 0;
   return n;
 }
 
 TEST(SceneConversion, KeepsOnlyWeightedVoxelsAndTheirValues) {
-  DenseVolume volume(sphereSpec(), true);
+  test::SyntheticVolume volume(sphereSpec(), true);
   fillSdf(volume, sphereSdf({0, 0, 0}, 0.2f), 0.f);
-  const VolumeView& v = volume.view();
+  const BrickVolumeView v = volume.view();
   const size_t weighted = countWeighted(volume);
   ASSERT_GT(weighted, 20000u);
 
-  const Scene scene = sceneFromDenseVolume(volume, sampleMeta());
+  const Scene scene = sceneFromBricks(volume.view(), sampleMeta());
   EXPECT_EQ(scene.activeVoxelCount(), weighted);
   EXPECT_FLOAT_EQ(scene.meta.voxel_size_m, 0.01f);
   EXPECT_FLOAT_EQ(scene.meta.truncation_m, 0.04f);
 
-  // Voxel (52, 32, 32): centre (0.205, 0.005, 0.005), just outside the sphere: sdf = 5.12 mm.
-  const Vec3i on{52, 32, 32};
-  const size_t i = v.voxelIndex(on.x, on.y, on.z);
+  // Voxel (20, 0, 0) (box voxel (52, 32, 32)): centre (0.205, 0.005, 0.005), just outside the
+  // sphere: sdf = 5.12 mm.
+  const Vec3i on{20, 0, 0};
+  const size_t i = volume.voxel(52, 32, 32);
   const SceneVoxel s = sceneVoxel(scene, on);
   ASSERT_TRUE(s.active);
   EXPECT_NEAR(s.tsdf_m, v.sdfMetres(i), 1e-6);
@@ -59,43 +60,43 @@ TEST(SceneConversion, KeepsOnlyWeightedVoxelsAndTheirValues) {
   // sRGB 180 -> linear 0.4564; 30 -> 0.0123.
   EXPECT_NEAR(s.color_linear.y, 0.4564f, 1e-3);
   EXPECT_NEAR(s.color_linear.x, 0.0123f, 1e-3);
-  // Cell-centred transform: index (52,32,32) sits where the dense volume puts it.
-  const Vec3f c = sceneVoxelCenter(scene, on), d = v.voxelCenter(on.x, on.y, on.z);
+  // Cell-centred transform: index (20,0,0) sits where the bricks put it.
+  const Vec3f c = sceneVoxelCenter(scene, on), d = volume.voxelCenter(52, 32, 32);
   EXPECT_NEAR(c.x, d.x, 1e-6);
   EXPECT_NEAR(c.y, d.y, 1e-6);
   EXPECT_NEAR(c.z, d.z, 1e-6);
 
   // The centre of the sphere is far from the surface: never weighted, inactive, background.
-  const SceneVoxel centre = sceneVoxel(scene, {32, 32, 32});
+  const SceneVoxel centre = sceneVoxel(scene, {0, 0, 0});
   EXPECT_FALSE(centre.active);
   EXPECT_FLOAT_EQ(centre.tsdf_m, 0.04f);
   EXPECT_EQ(centre.class_id, kSceneUnknownClass);
 }
 
-TEST(SceneConversion, UnknownClassVoteBecomesMinusOneAndUnobservedBricksAreSkipped) {
-  DenseVolume volume(sphereSpec(32), true);
-  const VolumeView& v = volume.view();
-  const size_t a = v.voxelIndex(3, 4, 5), b = v.voxelIndex(20, 20, 20);
+TEST(SceneConversion, UnknownClassVoteBecomesMinusOneAndBricksWithoutWeightAreSkipped) {
+  test::SyntheticVolume volume(sphereSpec(32), true);
+  HostBrickVolume& v = volume.bricks();
+  // Box voxel (x, y, z) is global voxel (x - 16, y - 16, z - 16).
+  const size_t a = volume.voxel(3, 4, 5);
   v.tsdf[a] = {1000, 3};
   v.class_vote[a] = packClassVote(kUnknownClass, 0);
-  v.brick_stamp[v.brickIndex(0, 0, 0)] = 5;
-  v.tsdf[b] = {1000, 3};  // weighted but its brick has no stamp: not observed, not converted
+  volume.voxel(20, 20, 20);  // allocated, never weighted: the brick is not converted
   // Fused geometry that no label ever voted on keeps the zero-initialised vote: class unknown,
   // not class 0 (which a table may well define, e.g. "background").
-  const size_t never_voted = v.voxelIndex(4, 4, 5);
+  const size_t never_voted = volume.voxel(4, 4, 5);
   v.tsdf[never_voted] = {1000, 3};
-  const Scene scene = sceneFromDenseVolume(volume, {});
+  const Scene scene = sceneFromBricks(volume.view(), {});
   EXPECT_EQ(scene.activeVoxelCount(), 2u);
-  EXPECT_EQ(sceneVoxel(scene, {4, 4, 5}).class_id, kSceneUnknownClass);
-  EXPECT_EQ(sceneVoxel(scene, {3, 4, 5}).class_id, kSceneUnknownClass);
-  EXPECT_TRUE(sceneVoxel(scene, {3, 4, 5}).active);
-  EXPECT_FALSE(sceneVoxel(scene, {20, 20, 20}).active);
+  EXPECT_EQ(sceneVoxel(scene, {-12, -12, -11}).class_id, kSceneUnknownClass);
+  EXPECT_EQ(sceneVoxel(scene, {-13, -12, -11}).class_id, kSceneUnknownClass);
+  EXPECT_TRUE(sceneVoxel(scene, {-13, -12, -11}).active);
+  EXPECT_FALSE(sceneVoxel(scene, {4, 4, 4}).active);
 }
 
 TEST(SceneFile, RoundTripKeepsGridsCountsAndMetadata) {
-  DenseVolume volume(sphereSpec(), true);
+  test::SyntheticVolume volume(sphereSpec(), true);
   fillSdf(volume, sphereSdf({0, 0, 0}, 0.2f), 0.f);
-  const Scene scene = sceneFromDenseVolume(volume, sampleMeta());
+  const Scene scene = sceneFromBricks(volume.view(), sampleMeta());
   const std::string dir = test::tempDir("scene_roundtrip");
   const std::string path = dir + "/scene.vdb";
   writeScene(scene, path);
@@ -120,16 +121,16 @@ TEST(SceneFile, RoundTripKeepsGridsCountsAndMetadata) {
   EXPECT_EQ(back.meta.classes.findId(2)->color.g, 180);
   ASSERT_EQ(a.classes.size(), b.classes.size());
   for (size_t i = 0; i < a.classes.size(); ++i) EXPECT_EQ(a.classes[i].voxels, b.classes[i].voxels);
-  EXPECT_NEAR(sceneVoxel(back, {52, 32, 32}).tsdf_m, 0.005122f, 2e-6);
+  EXPECT_NEAR(sceneVoxel(back, {20, 0, 0}).tsdf_m, 0.005122f, 2e-6);
   // Bounds: the band reaches 0.2 + 0.04 m from the centre, to within a voxel.
   EXPECT_NEAR(b.bounds_max_m.x, 0.24f, 0.011f);
   EXPECT_NEAR(b.bounds_min_m.y, -0.24f, 0.011f);
 }
 
 TEST(SceneFile, TruncatedForeignAndIncompleteFilesAreClearErrors) {
-  DenseVolume volume(sphereSpec(), false);
+  test::SyntheticVolume volume(sphereSpec(), false);
   fillSdf(volume, sphereSdf({0, 0, 0}, 0.2f), 0.f);
-  const Scene scene = sceneFromDenseVolume(volume, {});
+  const Scene scene = sceneFromBricks(volume.view(), {});
   const std::string dir = test::tempDir("scene_bad_files");
   writeScene(scene, dir + "/good.vdb");
   const auto size = fs::file_size(dir + "/good.vdb");

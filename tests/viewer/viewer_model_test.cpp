@@ -106,8 +106,8 @@ TEST(SceneContent, WithoutClassesOnePartAndNoRows) {
 
 TEST(SceneContent, EmptySceneIsAnErrorThatSaysSo) {
   const std::string dir = test::tempDir("viewer_content_empty");
-  DenseVolume volume(test::sphereSpec(32), false);
-  writeScene(sceneFromDenseVolume(volume, {}), dir + "/empty.vdb");
+  test::SyntheticVolume volume(test::sphereSpec(32), false);
+  writeScene(sceneFromBricks(volume.view(), {}), dir + "/empty.vdb");
   try {
     loadSceneContent(dir + "/empty.vdb", "", true, 0.f);
     FAIL() << "an empty scene must throw";

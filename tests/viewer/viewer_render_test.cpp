@@ -230,8 +230,8 @@ TEST_F(ViewerRender, SceneWithoutClassesFallsBackToRgbWithANotice) {
 TEST_F(ViewerRender, ErrorsSayWhatIsWrong) {
   const std::string png = dir_ + "/never.png";
   // Empty scene.
-  DenseVolume volume(test::sphereSpec(32), false);
-  writeScene(sceneFromDenseVolume(volume, {}), dir_ + "/empty.vdb");
+  test::SyntheticVolume volume(test::sphereSpec(32), false);
+  writeScene(sceneFromBricks(volume.view(), {}), dir_ + "/empty.vdb");
   RunResult r = view(dir_ + "/empty.vdb --screenshot " + png);
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("empty"), std::string::npos) << r.output;
@@ -274,7 +274,7 @@ TEST_F(ViewerRender, FusedTumSceneRendersWithItsTrajectory) {
   VF_REQUIRE_DATA(tum, "tum_fr3_teddy_head60");
   const std::string scene = dir_ + "/teddy10.vdb";
   const RunResult fused = runCommand(std::string(VF_VDBFUSE_EXE) + " reconstruct " + tum +
-                                     " --max-frames 10 --volume-size 256 -q -o " + scene + " --trajectory " + dir_ +
+                                     " --max-frames 10 --voxel-size-m 0.0117 -q -o " + scene + " --trajectory " + dir_ +
                                      "/teddy10.txt");
   ASSERT_EQ(fused.exit_code, 0) << fused.output;
   const cv::Mat img = render("teddy10", "", scene);

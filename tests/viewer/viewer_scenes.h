@@ -16,13 +16,13 @@ constexpr float kFloorY = 0.22f;  // y points down (camera frame): the floor is 
 constexpr Rgb8 kChairColor{230, 200, 40, 255}, kTableColor{40, 200, 220, 255};
 
 inline Scene ballOnFloorScene(bool with_classes) {
-  DenseVolume volume(sphereSpec(64, 0.01f), with_classes);
+  test::SyntheticVolume volume(sphereSpec(64, 0.01f), with_classes);
   const auto ball = sphereSdf({0, 0, 0}, kBallRadius);
   fillSdf(volume, [&](Vec3f p) { return std::min(ball(p), kFloorY - p.y); }, 0.f);
   SceneMetadata meta;
   if (with_classes) meta.classes.classes = {{kClassLeft, "chair", kChairColor}, {kClassRight, "table", kTableColor}};
   meta.source = "viewer test ball";
-  return sceneFromDenseVolume(volume, meta);
+  return sceneFromBricks(volume.view(), meta);
 }
 
 // Ten cameras on a short arc in front of the ball, looking at it (+z forward, y down).

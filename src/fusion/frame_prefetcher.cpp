@@ -1,6 +1,6 @@
-#include "app/frame_prefetcher.h"
+#include "fusion/frame_prefetcher.h"
 
-namespace vf::app {
+namespace vf {
 
 FramePrefetcher::FramePrefetcher(const FrameSource& source, int first, int count, int depth)
     : source_(source), next_index_(first), end_index_(first + count), depth_(size_t(depth)),
@@ -49,4 +49,4 @@ std::optional<RgbdFrame> FramePrefetcher::next() {
   return std::move(slot.frame);
 }
 
-}  // namespace vf::app
+}  // namespace vf

@@ -10,7 +10,7 @@
 
 #include "core/frame.h"
 
-namespace vf::app {
+namespace vf {
 
 class FramePrefetcher {
  public:
@@ -36,4 +36,4 @@ class FramePrefetcher {
   std::thread worker_;
 };
 
-}  // namespace vf::app
+}  // namespace vf

@@ -1,0 +1,62 @@
+#include "app/reconstruct_report.h"
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <cstdio>
+
+namespace vf::app {
+
+double peakResidentMiB() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return double(usage.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
+}
+
+void printTrackingSummary(int frames, const std::vector<std::string>& lost) {
+  std::printf("tracked %d of %d frames", frames - int(lost.size()), frames);
+  if (lost.empty()) {
+    std::printf("\n");
+    return;
+  }
+  std::printf("; %zu lost (last good pose kept, not integrated):\n", lost.size());
+  for (const std::string& l : lost) std::printf("  %s\n", l.c_str());
+}
+
+void printLabelSummary(const LabelStats& stats, const ClassTable& classes, int frames) {
+  std::printf("labels: %d of %d frames labelled", stats.frames_labelled, frames);
+  if (!stats.missing_files.empty()) {
+    std::printf("; %zu without a label map (fused without labels):", stats.missing_files.size());
+    const size_t shown = std::min<size_t>(stats.missing_files.size(), 5);
+    for (size_t i = 0; i < shown; ++i) std::printf(" %s", stats.missing_files[i].c_str());
+    if (shown < stats.missing_files.size()) std::printf(" ...");
+  }
+  std::printf("\n");
+  if (!stats.unknown_id_pixels.empty()) {
+    std::printf("labels: ids not in the class table (%zu classes named) were fused as unknown:",
+                classes.classes.size());
+    for (const auto& [id, pixels] : stats.unknown_id_pixels) std::printf(" %d (%lld px)", id, pixels);
+    std::printf("\n");
+  }
+}
+
+void printTimingTable(const StageTimer& timer, int frames, double wall_s) {
+  std::printf("\n%-12s %10s %10s %10s\n", "stage", "median ms", "mean ms", "total s");
+  double sum_median = 0;
+  for (const std::string& stage : timer.stages()) {
+    std::printf("%-12s %10.2f %10.2f %10.2f\n", stage.c_str(), timer.median(stage), timer.mean(stage),
+                timer.total(stage) / 1000.0);
+    if (stage == "measure" || stage == "track" || stage == "integrate" || stage == "raycast")
+      sum_median += timer.median(stage);
+  }
+  std::printf("%-12s %10.2f   -> %.1f frames/s from the four stages' medians\n", "fusion", sum_median,
+              sum_median > 0 ? 1000.0 / sum_median : 0.0);
+  std::printf("%d frames in %.2f s (%.1f frames/s including I/O)\n", frames, wall_s, wall_s > 0 ? frames / wall_s : 0.0);
+}
+
+void printMemory(int bricks, size_t volume_bytes) {
+  std::printf("volume: %d bricks (%.1f M voxels), %.0f MiB; peak memory %.0f MiB\n", bricks,
+              double(bricks) * kBrickVoxels / 1e6, double(volume_bytes) / double(1 << 20), peakResidentMiB());
+}
+
+}  // namespace vf::app

@@ -1,0 +1,23 @@
+#pragma once
+// What `vdbfuse reconstruct` prints once the frames are fused: tracking, labels, timings, memory.
+#include <string>
+#include <vector>
+
+#include "core/brick_volume.h"
+#include "core/class_table.h"
+#include "fusion/stage_timer.h"
+#include "io/labeled_source.h"
+
+namespace vf::app {
+
+void printTrackingSummary(int frames, const std::vector<std::string>& lost);
+void printLabelSummary(const LabelStats& stats, const ClassTable& classes, int frames);
+// Per-stage medians and the frames/s they allow, then the wall time including decoding.
+void printTimingTable(const StageTimer& timer, int frames, double wall_s);
+// The volume's size and the process's real peak resident memory (getrusage), printed last so that
+// the scene conversion and write are included.
+void printMemory(int bricks, size_t volume_bytes);
+// Peak resident memory of this process so far, MiB.
+double peakResidentMiB();
+
+}  // namespace vf::app

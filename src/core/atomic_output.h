@@ -1,0 +1,77 @@
+#pragma once
+// Outputs that appear whole or not at all: every file and folder vdbfuse writes goes through here.
+//
+// A writer fills a temporary sibling of the target (".<name>.tmp<pid>_<n><ext>", same folder, so the
+// rename stays on one file system), then commit() checks that every write succeeded, syncs the
+// data to disk, renames the temporary onto the target and syncs the folder. On any failure, on
+// destruction without commit(), and on SIGINT/SIGTERM (removeAllPendingOutputs(), called by the
+// app's signal thread) the temporary is removed and the old target is left as it was.
+#include <cstddef>
+#include <cstdio>
+#include <string>
+
+namespace vf {
+
+class AtomicFile {
+ public:
+  // Throws vf::Error naming `target` when its folder does not exist.
+  explicit AtomicFile(std::string target);
+  ~AtomicFile();
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+
+  const std::string& target() const { return target_; }
+  // For libraries that write to a path themselves (OpenVDB, OpenCV's video writer): they write
+  // here, and the caller verifies the content before commit() (their streams report no errors).
+  const std::string& tempPath() const { return temp_; }
+
+  // Appends to the temporary; a failed write throws vf::Error naming the target (disk full...).
+  void write(const void* data, size_t bytes);
+  void write(const std::string& bytes) { write(bytes.data(), bytes.size()); }
+
+  // Syncs, renames onto the target, syncs the folder. Throws vf::Error naming the target.
+  void commit();
+
+ private:
+  void fail(const std::string& why);
+  std::string target_, temp_;
+  std::FILE* file_ = nullptr;
+  bool committed_ = false;
+};
+
+// A folder of outputs (a converted dataset, a Blender export) written into a temporary folder
+// and renamed into place by commit(). An existing target folder is replaced only by commit(),
+// which the caller reaches after its own overwrite policy (--force) allowed it.
+class AtomicFolder {
+ public:
+  explicit AtomicFolder(std::string target);  // creates the temporary folder
+  ~AtomicFolder();
+  AtomicFolder(const AtomicFolder&) = delete;
+  AtomicFolder& operator=(const AtomicFolder&) = delete;
+
+  const std::string& target() const { return target_; }
+  const std::string& tempPath() const { return temp_; }
+  // Path of `name` inside the temporary folder, for writers that commit files there.
+  std::string file(const std::string& name) const;
+
+  void commit();
+
+ private:
+  std::string target_, temp_;
+  bool committed_ = false;
+};
+
+// One call for a file whose bytes are in memory.
+void writeFileAtomic(const std::string& path, const std::string& bytes);
+
+// Removes every temporary not yet committed or removed. For the app's signal thread, which calls
+// it from normal (not signal-handler) context before the process ends.
+void removeAllPendingOutputs();
+
+// The prefix every temporary of `target` starts with, so that a later run can find the ones a
+// killed process (SIGKILL) left behind.
+std::string temporaryPrefix(const std::string& target);
+// Removes those leftovers beside `target`; returns how many there were.
+int removeStaleTemporaries(const std::string& target);
+
+}  // namespace vf

@@ -1,0 +1,250 @@
+#include "fusion/checkpoint.h"
+
+#include <cstring>
+#include <map>
+#include <optional>
+#include <type_traits>
+
+#include "core/atomic_output.h"
+#include "core/byte_reader.h"
+#include "core/error.h"
+#include "core/mapped_file.h"
+#include "fusion/pipeline.h"
+
+namespace vf {
+namespace {
+
+constexpr char kMagic[16] = {'V', 'D', 'B', 'F', 'U', 'S', 'E', '-', 'C', 'K', 'P', 'T', '\n', 0, 0, 0};
+constexpr uint32_t kVersion = 2;  // 1: dense volume with a text annotation block
+
+uint64_t fnv1a(const uint8_t* p, size_t n, uint64_t h = 1469598103934665603ull) {
+  for (size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
+  return h;
+}
+
+// Streams into an AtomicFile, hashing what it writes; commit() appends the hash.
+class HashingWriter {
+ public:
+  explicit HashingWriter(const std::string& path) : file_(path) {}
+  void bytes(const void* p, size_t n) {
+    hash_ = fnv1a(static_cast<const uint8_t*>(p), n, hash_);
+    file_.write(p, n);
+  }
+  template <class T>
+  void pod(const T& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    bytes(&v, sizeof v);
+  }
+  void string(const std::string& s) {
+    pod<uint32_t>(uint32_t(s.size()));
+    bytes(s.data(), s.size());
+  }
+  void pose(const Pose& p) {
+    for (int i = 0; i < 16; ++i) pod(p.matrix().data()[i]);
+  }
+  void commit() {
+    const uint64_t h = hash_;
+    file_.write(&h, sizeof h);
+    file_.commit();
+  }
+
+ private:
+  AtomicFile file_;
+  uint64_t hash_ = 1469598103934665603ull;
+};
+
+Pose readPose(ByteReader& r) {
+  Pose p = Pose::Identity();
+  for (int i = 0; i < 16; ++i) p.matrix().data()[i] = r.read<double>("pose");
+  return p;
+}
+
+uint32_t readCount(ByteReader& r, const std::string& what, uint64_t bytes_each) {
+  const uint32_t n = r.read<uint32_t>(what + " count");
+  if (bytes_each > 0 && n > r.remaining() / bytes_each) r.fail(what + " count " + std::to_string(n) + " exceeds the file");
+  return n;
+}
+
+bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+struct Header {
+  RunSettings settings;
+  float voxel_size_m = 0, truncation_m = 0;
+  bool with_classes = false;
+  Intrinsics camera;
+};
+
+void checkHeader(const Header& h, const Pipeline& pipeline, const RunSettings& settings, const std::string& path) {
+  std::map<std::string, std::string> saved(h.settings.begin(), h.settings.end());
+  for (const auto& [key, value] : settings) {
+    const auto it = saved.find(key);
+    const std::string before = it == saved.end() ? "(unset)" : it->second;
+    if (before != value)
+      throw Error("checkpoint " + path + " belongs to a run with " + key + " = " + before + ", this run has " + key +
+                  " = " + value + "; resume with the same dataset and options, or start again");
+  }
+  const VolumeSpec& spec = pipeline.params().volume;
+  if (!sameBits(h.voxel_size_m, spec.voxel_size_m) || !sameBits(h.truncation_m, spec.truncation_m))
+    throw Error("checkpoint " + path + " holds voxels of " + std::to_string(h.voxel_size_m) + " m (truncation " +
+                std::to_string(h.truncation_m) + " m), this run asks for " + std::to_string(spec.voxel_size_m) +
+                " m (" + std::to_string(spec.truncation_m) + " m)");
+  if (h.with_classes != pipeline.withClasses())
+    throw Error("checkpoint " + path + (h.with_classes ? " was fused with class labels; resume with the same labels"
+                                                       : " was fused without class labels; resume without them"));
+  const Intrinsics& k = pipeline.intrinsics();
+  if (h.camera.width != k.width || h.camera.height != k.height || !sameBits(h.camera.fx, k.fx) ||
+      !sameBits(h.camera.fy, k.fy) || !sameBits(h.camera.cx, k.cx) || !sameBits(h.camera.cy, k.cy))
+    throw Error("checkpoint " + path + " was fused with another camera (" + std::to_string(h.camera.width) + "x" +
+                std::to_string(h.camera.height) + ", fx " + std::to_string(h.camera.fx) +
+                "); resume with the same dataset and intrinsics");
+}
+
+}  // namespace
+
+void writeCheckpoint(const std::string& path, Pipeline& pipeline, const RunProgress& progress) {
+  const BrickVolumeView bricks = pipeline.hostVolume();
+  const PipelineState& s = pipeline.state();
+  const Intrinsics& k = pipeline.intrinsics();
+  HashingWriter w(path);
+  w.bytes(kMagic, sizeof kMagic);
+  w.pod(kVersion);
+  w.pod<uint32_t>(uint32_t(progress.settings.size()));
+  for (const auto& [key, value] : progress.settings) {
+    w.string(key);
+    w.string(value);
+  }
+  w.pod(bricks.voxel_size_m);
+  w.pod(bricks.truncation_m);
+  w.pod<uint8_t>(bricks.hasClasses() ? 1 : 0);
+  w.pod<int32_t>(k.width);
+  w.pod<int32_t>(k.height);
+  w.pod(k.fx);
+  w.pod(k.fy);
+  w.pod(k.cx);
+  w.pod(k.cy);
+
+  w.pod<int32_t>(s.frames_processed);
+  w.pod<int32_t>(s.frames_lost);
+  w.pose(s.T_world_cam);
+  w.pose(s.T_world_model);
+  w.pod<uint8_t>(s.has_prediction ? 1 : 0);
+  w.pod<uint8_t>(s.last_given_pose ? 1 : 0);
+  w.pose(s.last_given_pose.value_or(Pose::Identity()));
+
+  w.pod<int32_t>(progress.frames_done);
+  w.pod<uint32_t>(uint32_t(progress.trajectory.size()));
+  for (const StampedPose& p : progress.trajectory) {
+    w.pod(p.timestamp);
+    w.pose(p.T_world_cam);
+  }
+  w.pod<uint32_t>(uint32_t(progress.lost.size()));
+  for (const std::string& l : progress.lost) w.string(l);
+
+  const size_t n = bricks.brick_count, voxels = n * kBrickVoxels;
+  w.pod<uint32_t>(uint32_t(n));
+  w.bytes(bricks.coords, n * sizeof(Vec3i));
+  w.bytes(bricks.tsdf, voxels * sizeof(TsdfVoxel));
+  w.bytes(bricks.color, voxels * sizeof(Rgb8));
+  if (bricks.hasClasses()) w.bytes(bricks.class_vote, voxels * sizeof(uint32_t));
+  w.commit();
+}
+
+namespace {
+
+// The file with its checksum verified, and a reader positioned after the settings.
+struct VerifiedFile {
+  explicit VerifiedFile(const std::string& path) : file(path, "checkpoint"), reader(nullptr, 0, "") {
+    if (file.size() < sizeof kMagic + sizeof(uint32_t) + sizeof(uint64_t) ||
+        std::memcmp(file.data(), kMagic, sizeof kMagic) != 0)
+      throw Error(path + " is not a vdbfuse checkpoint");
+    const size_t body = file.size() - sizeof(uint64_t);
+    uint64_t stored = 0;
+    std::memcpy(&stored, file.data() + body, sizeof stored);
+    if (fnv1a(file.data(), body) != stored)
+      throw Error("checkpoint " + path + " is corrupted or truncated (checksum mismatch); start the run again");
+    reader = ByteReader(file.data(), body, "checkpoint " + path + " is damaged");
+    reader.take(sizeof kMagic, "magic");
+    const uint32_t version = reader.read<uint32_t>("version");
+    if (version != kVersion)
+      throw Error("checkpoint " + path + " has format version " + std::to_string(version) + ", this vdbfuse reads " +
+                  std::to_string(kVersion) + "; start the run again");
+    const uint32_t setting_count = readCount(reader, "setting", 8);
+    for (uint32_t i = 0; i < setting_count; ++i) {
+      std::string key = reader.readString("setting name");
+      settings.emplace_back(std::move(key), reader.readString("setting value"));
+    }
+  }
+  MappedFile file;
+  ByteReader reader;
+  RunSettings settings;
+};
+
+}  // namespace
+
+RunSettings readCheckpointSettings(const std::string& path) { return VerifiedFile(path).settings; }
+
+RunProgress readCheckpoint(const std::string& path, Pipeline& pipeline, const RunSettings& settings) {
+  VerifiedFile verified(path);
+  ByteReader& r = verified.reader;
+  Header h;
+  h.settings = verified.settings;
+  h.voxel_size_m = r.read<float>("voxel size");
+  h.truncation_m = r.read<float>("truncation");
+  h.with_classes = r.read<uint8_t>("class flag") != 0;
+  h.camera.width = r.read<int32_t>("camera width");
+  h.camera.height = r.read<int32_t>("camera height");
+  h.camera.fx = r.read<float>("fx");
+  h.camera.fy = r.read<float>("fy");
+  h.camera.cx = r.read<float>("cx");
+  h.camera.cy = r.read<float>("cy");
+  checkHeader(h, pipeline, settings, path);
+
+  PipelineState s;
+  s.frames_processed = r.read<int32_t>("frame count");
+  s.frames_lost = r.read<int32_t>("lost frame count");
+  s.T_world_cam = readPose(r);
+  s.T_world_model = readPose(r);
+  s.has_prediction = r.read<uint8_t>("prediction flag") != 0;
+  const bool has_given = r.read<uint8_t>("recorded pose flag") != 0;
+  const Pose given = readPose(r);
+  if (has_given) s.last_given_pose = given;
+
+  RunProgress progress;
+  progress.settings = h.settings;
+  progress.frames_done = r.read<int32_t>("frames done");
+  const uint32_t poses = readCount(r, "trajectory", sizeof(double) * 17);
+  progress.trajectory.resize(poses);
+  for (StampedPose& p : progress.trajectory) {
+    p.timestamp = r.read<double>("timestamp");
+    p.T_world_cam = readPose(r);
+  }
+  const uint32_t lost = readCount(r, "lost frame", 4);
+  for (uint32_t i = 0; i < lost; ++i) progress.lost.push_back(r.readString("lost frame"));
+  if (progress.frames_done < 0 || size_t(progress.frames_done) != progress.trajectory.size() ||
+      progress.frames_done != s.frames_processed)
+    throw Error("checkpoint " + path + ": frame counts and trajectory disagree");
+
+  HostBrickVolume bricks;
+  bricks.voxel_size_m = h.voxel_size_m;
+  bricks.truncation_m = h.truncation_m;
+  bricks.with_classes = h.with_classes;
+  const uint64_t per_brick = sizeof(Vec3i) + kBrickVoxels * (sizeof(TsdfVoxel) + sizeof(Rgb8) +
+                                                            (h.with_classes ? sizeof(uint32_t) : 0));
+  const uint32_t n = readCount(r, "brick", per_brick);
+  bricks.resize(n);
+  const size_t voxels = size_t(n) * kBrickVoxels;
+  std::memcpy(bricks.coords.data(), r.take(n * sizeof(Vec3i), "brick coordinates"), n * sizeof(Vec3i));
+  std::memcpy(bricks.tsdf.data(), r.take(voxels * sizeof(TsdfVoxel), "tsdf"), voxels * sizeof(TsdfVoxel));
+  std::memcpy(bricks.color.data(), r.take(voxels * sizeof(Rgb8), "colour"), voxels * sizeof(Rgb8));
+  if (h.with_classes)
+    std::memcpy(bricks.class_vote.data(), r.take(voxels * sizeof(uint32_t), "class votes"), voxels * sizeof(uint32_t));
+  if (!r.atEnd()) throw Error("checkpoint " + path + " has trailing bytes (written by another version?)");
+  try {
+    pipeline.restore(s, bricks);
+  } catch (const Error& e) {
+    throw Error("checkpoint " + path + ": " + e.what());
+  }
+  return progress;
+}
+
+}  // namespace vf

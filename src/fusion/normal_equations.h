@@ -1,0 +1,37 @@
+#pragma once
+// The rows tracking reduces: one per pixel, the pixel's share of the 6x6 Gauss-Newton normal
+// equations for a left-multiplied pose increment xi = (omega, v), plus the statistics that
+// judge the result. IcpKernel and PhotometricKernel fill them (packNormalRow), parallelReduce
+// sums them, and the host solves the sum (fusion/tracking.cpp). Slots are named, never counted.
+#include "core/hd.h"
+
+namespace vf {
+
+namespace normal_row {
+constexpr int kHessian = 0;         // 21 entries: the upper triangle of J^T W J, row by row
+constexpr int kGradient = 21;       // 6 entries: J^T W r
+constexpr int kSquaredError = 27;   // W r^2
+constexpr int kInliers = 28;        // geometric correspondences found
+constexpr int kMeasured = 29;       // measured pixels with a normal, matched or not
+constexpr int kSize = 30;
+}  // namespace normal_row
+
+// Writes the weighted Jacobian products of one residual into row[kHessian .. kSquaredError].
+VF_HD void packNormalRow(float* row, const float J[6], float residual, float weight) {
+  int k = normal_row::kHessian;
+  for (int p = 0; p < 6; ++p)
+    for (int q = p; q < 6; ++q) row[k++] = weight * J[p] * J[q];
+  for (int p = 0; p < 6; ++p) row[normal_row::kGradient + p] = weight * J[p] * residual;
+  row[normal_row::kSquaredError] = weight * residual * residual;
+}
+
+// Work items of an image sampled at every stride-th pixel in x and y, and the pixel of each.
+VF_HD int stridedPixelCount(int width, int height, int stride) {
+  return ((width + stride - 1) / stride) * ((height + stride - 1) / stride);
+}
+VF_HD int stridedPixel(int item, int width, int stride) {
+  const int cols = (width + stride - 1) / stride;
+  return (item / cols) * stride * width + (item % cols) * stride;
+}
+
+}  // namespace vf

@@ -1,0 +1,288 @@
+#include "fusion/sparse_volume.h"
+
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cstring>
+#include <optional>
+#include <string>
+
+#include "core/error.h"
+#include "core/host_memory.h"
+#include "fusion/brick_hash.h"
+#include "fusion/cuda_api.h"
+#include "fusion/integrate_kernels.h"
+#include "fusion/parallel.h"
+
+namespace vf {
+namespace {
+
+constexpr uint32_t kInitialHashCapacity = 1u << 16;
+constexpr uint32_t kMaxHashCapacity = 1u << 30;
+constexpr int kInitialGpuPoolBricks = 1 << 14;  // 64 MiB without classes
+// Slots are ints and voxel indices 64-bit: 2^26 bricks (34 G voxels) is far beyond any memory.
+constexpr int kMaxPoolBricks = 1 << 26;
+// Share of the memory available at start that the CPU pool may take (the scene conversion at
+// the end needs room too).
+constexpr double kHostMemoryShare = 0.6;
+
+// Bytes of memory available to this process now: MemAvailable, else the physical memory.
+uint64_t availableHostBytes() {
+  if (const std::optional<HostMemory> m = readHostMemory()) return m->available_bytes;
+  return uint64_t(sysconf(_SC_PHYS_PAGES)) * uint64_t(sysconf(_SC_PAGESIZE));
+}
+
+void* reserveHost(size_t bytes) {
+  // Anonymous private mappings read as zero and commit a page only on first write.
+  void* p = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
+  if (p == MAP_FAILED)
+    throw Error("volume: cannot reserve " + std::to_string(bytes >> 20) + " MiB of address space for the brick pool");
+  return p;
+}
+
+}  // namespace
+
+// The slot-major arrays. CPU: reserved once for pool_limit_ slots; CUDA: pool_capacity_ slots,
+// reallocated (with a copy of the slots in use) when they grow.
+struct SparseVolume::Pool {
+  struct Array {
+    void* ptr = nullptr;
+    size_t bytes_per_slot = 0;
+  };
+  Device device;
+  size_t slots = 0;
+  Array tsdf{nullptr, kBrickVoxels * sizeof(TsdfVoxel)};
+  Array color{nullptr, kBrickVoxels * sizeof(Rgb8)};
+  Array class_vote{nullptr, kBrickVoxels * sizeof(uint32_t)};
+  Array coords{nullptr, sizeof(Vec3i)};
+
+  Pool(Device d, bool with_classes) : device(d) {
+    if (!with_classes) class_vote.bytes_per_slot = 0;
+  }
+  ~Pool() {
+    for (Array* a : arrays()) release(*a);
+  }
+  std::array<Array*, 4> arrays() { return {&tsdf, &color, &class_vote, &coords}; }
+  void release(Array& a) {
+    if (!a.ptr) return;
+    if (device == Device::Cuda) cuda::release(a.ptr);
+    else munmap(a.ptr, a.bytes_per_slot * slots);
+    a.ptr = nullptr;
+  }
+  // CUDA: new arrays of `new_slots`, the first `used` slots copied; false when memory runs out.
+  bool resize(size_t new_slots, size_t used) {
+    if (device != Device::Cuda) {
+      if (slots != 0) return false;  // the host reservation is made once, at its full size
+      for (Array* a : arrays())
+        if (a->bytes_per_slot) a->ptr = reserveHost(a->bytes_per_slot * new_slots);
+      slots = new_slots;
+      return true;
+    }
+    std::array<void*, 4> fresh{};
+    const std::array<Array*, 4> all = arrays();
+    try {
+      for (size_t i = 0; i < all.size(); ++i) {
+        if (!all[i]->bytes_per_slot) continue;
+        fresh[i] = cuda::allocate(all[i]->bytes_per_slot * new_slots);
+        cuda::fillZero(fresh[i], all[i]->bytes_per_slot * new_slots);
+        if (all[i]->ptr) cuda::copyOnDevice(fresh[i], all[i]->ptr, all[i]->bytes_per_slot * used);
+      }
+    } catch (const Error&) {  // out of device memory: keep the old arrays
+      for (void* p : fresh)
+        if (p) cuda::release(p);
+      return false;
+    }
+    for (size_t i = 0; i < all.size(); ++i) {
+      release(*all[i]);
+      all[i]->ptr = fresh[i];
+    }
+    slots = new_slots;
+    return true;
+  }
+};
+
+size_t SparseVolume::bytesPerBrick(bool with_classes) {
+  return kBrickVoxels * (sizeof(TsdfVoxel) + sizeof(Rgb8) + (with_classes ? sizeof(uint32_t) : 0)) + sizeof(Vec3i);
+}
+
+size_t SparseVolume::initialDeviceBytes(bool with_classes) {
+  return size_t(kInitialGpuPoolBricks) * bytesPerBrick(with_classes) +
+         size_t(kInitialHashCapacity) * (sizeof(uint64_t) + 3 * sizeof(int) + sizeof(uint32_t));
+}
+
+SparseVolume::SparseVolume(const VolumeSpec& spec, bool with_classes, Device device)
+    : spec_(spec), with_classes_(with_classes), device_(device), pool_(std::make_unique<Pool>(device, with_classes)) {
+  spec_.validate();
+  spec_.truncation_m = spec_.truncationOrDefault();
+  const size_t per_brick = bytesPerBrick(with_classes);
+  if (spec_.max_bricks > 0) {
+    pool_limit_ = int(std::min<size_t>(spec_.max_bricks, kMaxPoolBricks));
+  } else if (device_ == Device::Cuda) {
+    pool_limit_ = kMaxPoolBricks;  // device memory decides, when a growth fails
+  } else {
+    pool_limit_ = int(std::min<uint64_t>(uint64_t(double(availableHostBytes()) * kHostMemoryShare) / per_brick,
+                                         kMaxPoolBricks));
+  }
+  if (pool_limit_ < 1) throw Error("volume: no memory is left for a single brick");
+  const int initial = device_ == Device::Cuda ? std::min(kInitialGpuPoolBricks, pool_limit_) : pool_limit_;
+  if (!pool_->resize(size_t(initial), 0))
+    throw Error("volume: cannot allocate " + std::to_string((size_t(initial) * per_brick) >> 20) +
+                " MiB for the brick pool");
+  pool_capacity_ = initial;
+  counters_.allocate(device_, kCounters);
+  allocateHash(kInitialHashCapacity);
+}
+
+SparseVolume::~SparseVolume() = default;
+
+size_t SparseVolume::bytesHeld() const {
+  const size_t hash_bytes = size_t(hash_capacity_) * (sizeof(uint64_t) + 3 * sizeof(int) + sizeof(uint32_t));
+  return size_t(brick_count_) * bytesPerBrick(with_classes_) + hash_bytes;
+}
+
+void SparseVolume::refreshView() {
+  view_.tsdf = static_cast<TsdfVoxel*>(pool_->tsdf.ptr);
+  view_.color = static_cast<Rgb8*>(pool_->color.ptr);
+  view_.class_vote = static_cast<uint32_t*>(pool_->class_vote.ptr);
+  view_.brick_coords = static_cast<Vec3i*>(pool_->coords.ptr);
+  view_.hash = BrickHashView{keys_.data(), slots_.data(), hash_capacity_ - 1};
+  view_.voxel_size_m = spec_.voxel_size_m;
+  view_.truncation_m = spec_.truncation_m;
+}
+
+int SparseVolume::readCounter(Counter c) const {
+  int v = 0;
+  if (device_ == Device::Cuda) cuda::copyToHost(&v, counters_.data() + c, sizeof v);
+  else v = counters_.data()[c];
+  return v;
+}
+
+void SparseVolume::setCounter(Counter c, int value) {
+  if (device_ == Device::Cuda) cuda::copyToDevice(counters_.data() + c, &value, sizeof value);
+  else counters_.data()[c] = value;
+}
+
+void SparseVolume::allocateHash(uint32_t capacity) {
+  hash_capacity_ = capacity;
+  keys_.allocate(device_, capacity);
+  slots_.allocate(device_, capacity);
+  entry_stamp_.allocate(device_, capacity);
+  frame_entries_.allocate(device_, capacity);
+  frame_slots_.allocate(device_, capacity);
+  refreshView();
+  parallelFor(device_, int(capacity), ClearBrickHashKernel{view_.hash});
+}
+
+// Re-inserts the allocated bricks into a table twice the size (or more, until they fit).
+void SparseVolume::rehash() {
+  uint32_t capacity = hash_capacity_;
+  for (;;) {
+    capacity *= 2;
+    if (capacity > kMaxHashCapacity) throw Error("volume: the brick hash table cannot grow further");
+    allocateHash(capacity);
+    setCounter(kOverflow, 0);
+    parallelFor(device_, brick_count_, RehashBricksKernel{view_.hash, view_.brick_coords, overflowFlag()});
+    if (readCounter(kOverflow) == 0) return;
+  }
+}
+
+void SparseVolume::beginFrame() {
+  // Load factor at most 0.4 before the frame leaves room for its new bricks (linear probing stays
+  // short); a frame that still overflows makes growIfOverflowed() rehash and mark again.
+  if (uint64_t(brick_count_) * 5 > uint64_t(hash_capacity_) * 2) rehash();
+  setCounter(kFrameCount, 0);
+  setCounter(kOverflow, 0);
+  pool_full_ = false;
+}
+
+bool SparseVolume::growIfOverflowed() {
+  if (readCounter(kOverflow) == 0) return false;
+  rehash();  // forgets this frame's partial list and stamps: marking runs again from scratch
+  beginFrame();
+  return true;
+}
+
+bool SparseVolume::growPool(int needed) {
+  if (needed <= pool_capacity_) return true;
+  if (needed > pool_limit_) return false;
+  size_t target = size_t(pool_capacity_);
+  while (target < size_t(needed)) target *= 2;
+  target = std::min(target, size_t(pool_limit_));
+  if (!pool_->resize(target, size_t(brick_count_))) {
+    pool_limit_ = pool_capacity_;  // memory is exhausted: this is as large as the pool gets
+    return false;
+  }
+  pool_capacity_ = int(target);
+  refreshView();
+  return true;
+}
+
+int SparseVolume::assignSlots() {
+  const int touched = readCounter(kFrameCount);
+  if (touched == 0) return 0;
+  int* counters = counters_.data();
+  setCounter(kNewBricks, 0);
+  parallelFor(device_, touched, CountNewBricksKernel{view_.hash, frameEntries(), counters + kNewBricks});
+  const int fresh = readCounter(kNewBricks);
+  if (fresh > 0 && !growPool(brick_count_ + fresh)) pool_full_ = true;
+  setCounter(kSlotCount, brick_count_);
+  setCounter(kPoolFull, 0);
+  parallelFor(device_, touched,
+              AssignSlotsKernel{view_, frameEntries(), frameSlots(), counters + kSlotCount, pool_capacity_,
+                                counters + kPoolFull});
+  if (fresh > 0) {
+    brick_count_ = std::min(readCounter(kSlotCount), pool_capacity_);
+    if (readCounter(kPoolFull) != 0) pool_full_ = true;
+  }
+  return touched;
+}
+
+BrickVolumeView SparseVolume::hostView() {
+  if (device_ != Device::Cuda) {
+    return {spec_.voxel_size_m, spec_.truncation_m, size_t(brick_count_), view_.brick_coords, view_.tsdf,
+            view_.color, view_.class_vote};
+  }
+  HostBrickVolume& m = host_mirror_;
+  m.voxel_size_m = spec_.voxel_size_m;
+  m.truncation_m = spec_.truncation_m;
+  m.with_classes = with_classes_;
+  m.resize(size_t(brick_count_));
+  const size_t voxels = size_t(brick_count_) * kBrickVoxels;
+  cuda::copyToHost(m.coords.data(), view_.brick_coords, size_t(brick_count_) * sizeof(Vec3i));
+  cuda::copyToHost(m.tsdf.data(), view_.tsdf, voxels * sizeof(TsdfVoxel));
+  cuda::copyToHost(m.color.data(), view_.color, voxels * sizeof(Rgb8));
+  if (with_classes_) cuda::copyToHost(m.class_vote.data(), view_.class_vote, voxels * sizeof(uint32_t));
+  return m.view();
+}
+
+void SparseVolume::restore(const HostBrickVolume& bricks) {
+  if (bricks.with_classes != with_classes_)
+    throw Error(std::string("volume: the saved bricks were fused ") + (bricks.with_classes ? "with" : "without") +
+                " classes");
+  const int n = int(bricks.coords.size());
+  if (n > pool_capacity_ && !growPool(n))
+    throw Error("volume: " + std::to_string(n) + " saved bricks do not fit in memory (at most " +
+                std::to_string(pool_limit_) + ")");
+  for (const Vec3i& b : bricks.coords)
+    if (!brickCoordInRange(b)) throw Error("volume: a saved brick lies outside the volume's range");
+  const size_t voxels = size_t(n) * kBrickVoxels;
+  auto put = [&](void* dst, const void* src, size_t bytes) {
+    if (device_ == Device::Cuda) cuda::copyToDevice(dst, src, bytes);
+    else std::memcpy(dst, src, bytes);
+  };
+  put(view_.brick_coords, bricks.coords.data(), size_t(n) * sizeof(Vec3i));
+  put(view_.tsdf, bricks.tsdf.data(), voxels * sizeof(TsdfVoxel));
+  put(view_.color, bricks.color.data(), voxels * sizeof(Rgb8));
+  if (with_classes_) put(view_.class_vote, bricks.class_vote.data(), voxels * sizeof(uint32_t));
+  brick_count_ = n;
+  pool_full_ = false;
+  // A fresh table large enough for the load-factor rule, then every brick back in with its slot.
+  uint32_t capacity = kInitialHashCapacity;
+  while (uint64_t(n) * 5 > uint64_t(capacity) * 2) capacity *= 2;
+  hash_capacity_ = capacity / 2;
+  rehash();
+}
+
+}  // namespace vf

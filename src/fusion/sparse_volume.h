@@ -1,0 +1,92 @@
+#pragma once
+// Owner of the sparse volume's memory on one backend: the brick pool (voxel arrays and brick
+// coordinates, by slot), the spatial hash (fusion/brick_hash.h) and the per-frame brick lists,
+// and the policy by which they grow. Kernels see it through view().
+//
+// Pool memory: on the CPU one reservation sized from the machine's memory, committed page by page
+// as bricks are allocated (nothing is copied as the scene grows); on the GPU an allocation that
+// doubles, with a device-side copy, when a frame needs more bricks than it has. When memory runs
+// out the pool stays full: bricks beyond it are not allocated and processFrame says so, so the
+// caller can stop and save what was fused (never a silent stop, never a crash).
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+
+#include "core/brick_volume.h"
+#include "core/volume_spec.h"
+#include "fusion/buffer.h"
+#include "fusion/device.h"
+#include "fusion/volume.h"
+
+namespace vf {
+
+class SparseVolume {
+ public:
+  SparseVolume(const VolumeSpec& spec, bool with_classes, Device device);
+  ~SparseVolume();
+  SparseVolume(const SparseVolume&) = delete;
+  SparseVolume& operator=(const SparseVolume&) = delete;
+
+  const VolumeView& view() const { return view_; }
+  Device device() const { return device_; }
+  bool hasClasses() const { return with_classes_; }
+  int brickCount() const { return brick_count_; }      // slots in use
+  int poolCapacity() const { return pool_capacity_; }  // slots available now
+  int poolLimit() const { return pool_limit_; }        // slots memory allows at most
+  static size_t bytesPerBrick(bool with_classes);
+  // Device bytes a CUDA volume allocates when it is created (the first pool and hash table).
+  static size_t initialDeviceBytes(bool with_classes);
+  // Memory held for the volume now (pool committed so far, hash, lists).
+  size_t bytesHeld() const;
+
+  // Allocation, one frame at a time (Pipeline::integrate):
+  // 1. beginFrame(): the hash has room for the frame (it grows between frames) and the list is empty.
+  void beginFrame();
+  // The per-frame lists and counters the marking kernel writes.
+  uint32_t* entryStamps() const { return entry_stamp_.data(); }
+  int* frameEntries() const { return frame_entries_.data(); }
+  int* frameSlots() const { return frame_slots_.data(); }
+  int* frameCount() const { return counters_.data() + kFrameCount; }
+  int* overflowFlag() const { return counters_.data() + kOverflow; }
+  // 2. after marking: true when the hash overflowed; it has then grown, and marking must run again.
+  bool growIfOverflowed();
+  // 3. gives the frame's new bricks slots (growing the pool where it can); returns the number of
+  //    bricks the frame touched. poolFull() tells whether some of them found no slot this frame.
+  int assignSlots();
+  bool poolFull() const { return pool_full_; }
+
+  // A host view of every allocated brick. CPU: the live pool; CUDA: a copy refreshed by each call.
+  BrickVolumeView hostView();
+  // Replaces the content with `bricks` (slots 0..n-1 in their order), as a checkpoint saved it.
+  void restore(const HostBrickVolume& bricks);
+
+ private:
+  enum Counter { kFrameCount = 0, kOverflow, kSlotCount, kPoolFull, kNewBricks, kCounters };
+  struct Pool;
+  void allocateHash(uint32_t capacity);
+  void rehash();
+  void refreshView();
+  bool growPool(int needed);
+  int readCounter(Counter c) const;
+  void setCounter(Counter c, int value);
+
+  VolumeSpec spec_;
+  bool with_classes_;
+  Device device_;
+  std::unique_ptr<Pool> pool_;
+  int pool_capacity_ = 0;
+  int pool_limit_ = 0;
+  int brick_count_ = 0;
+  bool pool_full_ = false;
+  uint32_t hash_capacity_ = 0;
+  Buffer<uint64_t> keys_;
+  Buffer<int> slots_;
+  Buffer<uint32_t> entry_stamp_;
+  Buffer<int> frame_entries_;
+  Buffer<int> frame_slots_;
+  Buffer<int> counters_;
+  VolumeView view_;
+  HostBrickVolume host_mirror_;  // CUDA only: what hostView() last downloaded
+};
+
+}  // namespace vf

@@ -1,0 +1,141 @@
+// Outputs appear whole or not at all (core/atomic_output.h): a failed write, an abandoned one and
+// a full disk all leave the old target as it was and no temporary behind.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "core/atomic_output.h"
+#include "core/byte_reader.h"
+#include "core/error.h"
+#include "core/mapped_file.h"
+#include "test_data.h"
+
+namespace vf {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+size_t entries(const std::string& dir) {
+  return size_t(std::distance(fs::directory_iterator(dir), fs::directory_iterator()));
+}
+
+// Files larger than `bytes` cannot be written while it lives: write() fails with EFBIG, as on a
+// full disk (SIGXFSZ, which would end the process, is ignored meanwhile).
+class FileSizeLimit {
+ public:
+  explicit FileSizeLimit(rlim_t bytes) {
+    getrlimit(RLIMIT_FSIZE, &old_);
+    previous_ = signal(SIGXFSZ, SIG_IGN);
+    rlimit limit = old_;
+    limit.rlim_cur = bytes;
+    setrlimit(RLIMIT_FSIZE, &limit);
+  }
+  ~FileSizeLimit() {
+    setrlimit(RLIMIT_FSIZE, &old_);
+    signal(SIGXFSZ, previous_);
+  }
+
+ private:
+  rlimit old_{};
+  sighandler_t previous_;
+};
+
+TEST(AtomicFile, CommitReplacesTheTargetAndLeavesNothingElse) {
+  const std::string dir = test::tempDir("atomic_file");
+  const std::string target = dir + "/out.txt";
+  writeFileAtomic(target, "old");
+  writeFileAtomic(target, "new content");
+  EXPECT_EQ(slurp(target), "new content");
+  EXPECT_EQ(entries(dir), 1u);
+}
+
+TEST(AtomicFile, AnAbandonedOrFailedWriteKeepsTheOldTarget) {
+  const std::string dir = test::tempDir("atomic_file_fail");
+  const std::string target = dir + "/scene.vdb";
+  writeFileAtomic(target, "the good scene");
+  {
+    AtomicFile file(target);
+    file.write("half a scene");
+    EXPECT_EQ(fs::path(file.tempPath()).extension(), ".vdb");  // writers that go by the extension see it
+    EXPECT_EQ(entries(dir), 2u);
+  }  // destroyed without commit
+  EXPECT_EQ(slurp(target), "the good scene");
+  EXPECT_EQ(entries(dir), 1u);
+
+  const std::string big(1 << 20, 'x');
+  {
+    FileSizeLimit limit(64 * 1024);
+    const std::string error = test::errorOf([&] { writeFileAtomic(target, big); });
+    EXPECT_NE(error.find("cannot write " + target), std::string::npos) << error;
+  }
+  EXPECT_EQ(slurp(target), "the good scene");
+  EXPECT_EQ(entries(dir), 1u) << "a temporary was left after the failed write";
+  EXPECT_NE(test::errorOf([&] { writeFileAtomic(dir + "/missing/x.txt", "x"); }).find("does not exist"),
+            std::string::npos);
+}
+
+TEST(AtomicFile, PendingOutputsAreRemovedOnRequestAndStaleOnesFound) {
+  const std::string dir = test::tempDir("atomic_pending");
+  AtomicFile a(dir + "/a.ply");
+  a.write("partial");
+  AtomicFolder b(dir + "/export");
+  std::ofstream(b.file("mesh.ply")) << "partial";
+  EXPECT_EQ(entries(dir), 2u);
+  removeAllPendingOutputs();  // what the signal thread does before the process ends
+  EXPECT_EQ(entries(dir), 0u);
+  // A killed process's leftover beside a target is recognised by its prefix.
+  std::ofstream(dir + "/" + temporaryPrefix(dir + "/a.ply") + "4242_0.ply") << "left by a SIGKILL";
+  std::ofstream(dir + "/a.ply.txt") << "a user's file";
+  EXPECT_EQ(removeStaleTemporaries(dir + "/a.ply"), 1);
+  EXPECT_EQ(entries(dir), 1u);
+}
+
+TEST(AtomicFolder, ReplacesAFolderWholeAndOnlyOnCommit) {
+  const std::string dir = test::tempDir("atomic_folder");
+  const std::string target = dir + "/export";
+  fs::create_directories(target);
+  std::ofstream(target + "/old.ply") << "old";
+  {
+    AtomicFolder out(target);
+    std::ofstream(out.file("new.ply")) << "new";
+  }  // abandoned
+  EXPECT_TRUE(fs::exists(target + "/old.ply"));
+  EXPECT_EQ(entries(dir), 1u);
+  AtomicFolder out(target);
+  writeFileAtomic(out.file("new.ply"), "new");
+  out.commit();
+  EXPECT_FALSE(fs::exists(target + "/old.ply"));
+  EXPECT_EQ(slurp(target + "/new.ply"), "new");
+  EXPECT_EQ(entries(dir), 1u);
+}
+
+TEST(MappedFile, RefusesWhatIsNotARegularFileWithoutBlocking) {
+  const std::string dir = test::tempDir("mapped_file");
+  const std::string fifo = dir + "/pipe";
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_NE(test::errorOf([&] { MappedFile f(fifo, "scene file"); }).find("not a regular file"), std::string::npos);
+  EXPECT_NE(test::errorOf([&] { MappedFile f(dir, "scene file"); }).find("not a regular file"), std::string::npos);
+  EXPECT_NE(test::errorOf([&] { MappedFile f(dir + "/none", "checkpoint"); }).find("checkpoint does not exist"),
+            std::string::npos);
+  writeFileAtomic(dir + "/four", std::string("\x01\x00\x00\x00", 4));
+  const MappedFile f(dir + "/four", "file");
+  ByteReader r(f.data(), f.size(), dir + "/four: damaged");
+  EXPECT_EQ(r.read<uint32_t>("count"), 1u);
+  const std::string error = test::errorOf([&] { r.read<uint32_t>("next count"); });
+  EXPECT_NE(error.find("four: damaged (byte 4): next count needs 4 bytes, 0 are left"), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace vf
