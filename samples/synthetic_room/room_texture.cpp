@@ -78,7 +78,7 @@ Vec3 surfaceColor(const Primitive& p, const Vec3& x, const Vec3& n) {
   faceCoords(x, n, u, v);
   const uint64_t salt = uint64_t(p.variant) * 131u + 7u;
   const float vary = latticeValue(p.variant, 1, 2);  // one number per primitive
-  Vec3 c;
+  Vec3 c = Vec3::Zero();
   switch (p.material) {
     case Material::kShell: {  // floor, ceiling, niche backs by the normal
       if (n.z() > 0.5f) c = floorColor(x.x(), x.y());
@@ -109,9 +109,15 @@ Vec3 surfaceColor(const Primitive& p, const Vec3& x, const Vec3& n) {
           Vec3::Constant(30.f * float(std::fmod(std::floor(u / 0.12f) + std::floor(v / 0.12f), 2.0f)));
       break;
     case Material::kBook: {
-      // Spines: a band of colour every few centimetres, chosen by a hash of the band.
-      const float band = std::floor((std::abs(n.x()) > 0.5f ? x.y() : x.x()) / 0.035f);
-      c = hueColor(latticeValue(int32_t(band), int32_t(salt), 9), 0.7f, 0.75f);
+      // Spines 1-7 cm wide (band edges jittered about a 4 cm grid) in random hue, saturation and
+      // brightness. Equal widths at equal brightness made a grating the photometric term aligned
+      // one spine off, 3.5 cm per frame along the bookcase.
+      const float s_m = std::abs(n.x()) > 0.5f ? x.y() : x.x();
+      const float cell = std::floor(s_m / 0.04f);
+      const float edge = (cell + 0.5f + 0.75f * (latticeValue(int32_t(cell), int32_t(salt), 8) - 0.5f)) * 0.04f;
+      const int32_t band = int32_t(cell) - (s_m < edge ? 1 : 0);  // a spine runs from one edge to the next
+      c = hueColor(latticeValue(band, int32_t(salt), 9), 0.35f + 0.55f * latticeValue(band, int32_t(salt), 10),
+                   0.3f + 0.65f * latticeValue(band, int32_t(salt), 12));
       if (std::abs(x.z() - 0.5f * (p.lo.z() + p.hi.z())) < 0.012f) c = Vec3(230, 220, 190);  // titles
       break;
     }

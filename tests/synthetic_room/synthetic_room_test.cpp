@@ -175,8 +175,9 @@ double icpConstraint(const Room& room, const CleanView& view, const Intrinsics& 
   spread = std::sqrt(spread / double(points.size()));
   Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
   for (size_t i = 0; i < points.size(); ++i) {
-    Eigen::Matrix<double, 6, 1> J;
-    J << ((points[i] - centroid) / spread).cross(normals[i]), normals[i];
+    const Eigen::Vector3d l = (points[i] - centroid) / spread, &n = normals[i];
+    Eigen::Matrix<double, 6, 1> J;  // (l x n, n), the cross product spelled out: GCC 12 warns on Eigen's AVX one
+    J << l.y() * n.z() - l.z() * n.y(), l.z() * n.x() - l.x() * n.z(), l.x() * n.y() - l.y() * n.x(), n;
     H += J * J.transpose();
   }
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(H);
