@@ -11,8 +11,7 @@
 #include <string>
 #include <system_error>
 
-#include <unistd.h>
-
+#include "core/atomic_output.h"
 #include "core/error.h"
 #include "io/mesh_io.h"
 #include "io/trajectory_io.h"
@@ -89,35 +88,22 @@ void generate(const Options& o) {
   const RoomScanSource source(scan);
   const RangeCountingSource counting(source);
 
-  // A new folder is written under a temporary name beside it and renamed when complete, so an
-  // error leaves no half-written scan; an existing one (empty, or with --force) is written in place.
+  // The scan and its mesh go into a temporary folder renamed into place when both are written
+  // (core/atomic_output.h): an error or Ctrl-C leaves no half-written scan, and an existing one
+  // is replaced only with --force.
   fs::path target(o.output);
   if (!target.has_filename()) target = target.parent_path();  // "room/"
-  const bool fresh = !fs::exists(target);
-  fs::path work = target;
-  if (fresh) {
-    std::error_code ec;
-    if (target.has_parent_path()) fs::create_directories(target.parent_path(), ec);
-    if (ec) throw Error(target.string() + ": cannot create the folder it goes in (" + ec.message() + ")");
-    work = target.parent_path() / ("." + target.filename().string() + ".partial" + std::to_string(::getpid()));
-    fs::remove_all(work, ec);
-  }
+  if (fs::exists(target) && !o.force) throw Error(target.string() + ": exists (use --force to replace it)");
+  std::error_code ec;
+  if (target.has_parent_path()) fs::create_directories(target.parent_path(), ec);
+  if (ec) throw Error(target.string() + ": cannot create the folder it goes in (" + ec.message() + ")");
+  removeStaleTemporaries(target.string());  // what a killed earlier run left beside it
   const auto t0 = std::chrono::steady_clock::now();
-  TumWriteOptions write;
-  write.force = o.force;
-  TumWriteResult written;
   const TriangleMesh mesh = groundTruthMesh(source.room());
-  try {
-    written = writeTumFolder(counting, work.string(), write);
-    writePly(mesh, (work / "groundtruth_mesh.ply").string(), false);
-    std::error_code ec;
-    if (fresh) fs::rename(work, target, ec);
-    if (ec) throw Error(target.string() + ": cannot move the written scan into place (" + ec.message() + ")");
-  } catch (...) {
-    std::error_code ignored;
-    if (fresh) fs::remove_all(work, ignored);
-    throw;
-  }
+  AtomicFolder folder(target.string());
+  const TumWriteResult written = writeTumFolder(counting, folder.tempPath());
+  writePly(mesh, folder.file("groundtruth_mesh.ply"), false);
+  folder.commit();
   const double frames_s = secondsSince(t0);
   const std::string mesh_path = (target / "groundtruth_mesh.ply").string();
 
@@ -197,7 +183,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 100000));
   app.add_option("--seed", o.seed, "seed of the sensor noise")->capture_default_str();
   app.add_option("--size", o.size, "image size WIDTHxHEIGHT (the Kinect's view scaled)")->capture_default_str();
-  app.add_flag("--force", o.force, "write into an existing non-empty folder");
+  app.add_flag("-f,--force", o.force, "replace an existing output folder, with everything in it");
   app.add_flag("--no-noise", o.no_noise, "a perfect sensor: exact depth everywhere, exact colour");
   app.add_option("--evaluate", o.evaluate, "score this reconstructed mesh (PLY) instead of writing the scan")
       ->check(CLI::ExistingFile);
