@@ -1,7 +1,9 @@
 #pragma once
 // PNG/JPG images in and out of the core image types. Depth PNGs are 16-bit (TUM: value / 5000 =
 // metres, 0 = no reading); label maps are single-channel 8- or 16-bit class ids. Writers never
-// leave a half-written file behind (core/atomic_output.h).
+// leave a half-written file behind (core/atomic_output.h). The readers refuse, naming the file,
+// a truncated or corrupt file and an image of more than 100 Mpx (io/image_codec.h) before they
+// allocate it.
 #include <string>
 
 #include "core/image.h"

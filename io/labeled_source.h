@@ -50,6 +50,7 @@ class LabeledFrameSource : public FrameSource {
   Distortion depthDistortion() const override { return inner_->depthDistortion(); }
   std::string description() const override;
   Trajectory groundTruth() const override { return inner_->groundTruth(); }
+  bool colorRegisteredToDepth() const override { return inner_->colorRegisteredToDepth(); }
 
   const ClassTable& classes() const { return classes_; }
   // Totals over every load() so far.

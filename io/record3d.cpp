@@ -5,6 +5,8 @@
 #include <opencv2/imgproc.hpp>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 
 #include "core/error.h"
 #include "io/lzfse.h"
@@ -127,14 +129,27 @@ ColorImage decodeColorAtResolution(const std::vector<uint8_t>& encoded, int widt
   return color;
 }
 
-void filterRecord3dDepth(DepthImage& depth, const uint8_t* confidence, int min_confidence) {
+void filterRecord3dDepth(DepthImage& depth, const uint8_t* confidence, int min_confidence,
+                         float units_per_metre) {
   float* d = depth.data();
   const size_t n = size_t(depth.width()) * size_t(depth.height());
+  const float metres_per_unit = 1.f / units_per_metre;
   for (size_t i = 0; i < n; ++i) {
     if (!(std::isfinite(d[i]) && d[i] > 0.f)) d[i] = 0.f;
     if (confidence && confidence[i] < min_confidence) d[i] = 0.f;
+    if (units_per_metre != 1.f) d[i] *= metres_per_unit;
   }
 }
+
+// Where a capture's entries come from: the .r3d zip, or the folder it was unzipped to.
+class Record3dEntries {
+ public:
+  virtual ~Record3dEntries() = default;
+  virtual bool contains(const std::string& entry) const = 0;
+  // Thread-safe; throws vf::Error naming the entry when it is missing or over max_bytes.
+  virtual std::vector<uint8_t> read(const std::string& entry, uint64_t max_bytes = uint64_t(1) << 30) const = 0;
+  virtual std::vector<std::string> entryNames() const = 0;
+};
 
 namespace {
 
@@ -142,14 +157,65 @@ std::string depthEntry(int i) { return "rgbd/" + std::to_string(i) + ".depth"; }
 std::string confEntry(int i) { return "rgbd/" + std::to_string(i) + ".conf"; }
 std::string colorEntry(int i) { return "rgbd/" + std::to_string(i) + ".jpg"; }
 
+class ZipEntries : public Record3dEntries {
+ public:
+  explicit ZipEntries(const std::string& path) : zip_(path) {}
+  bool contains(const std::string& entry) const override { return zip_.contains(entry); }
+  std::vector<uint8_t> read(const std::string& entry, uint64_t max_bytes) const override {
+    return zip_.read(entry, max_bytes);
+  }
+  std::vector<std::string> entryNames() const override { return zip_.entryNames(); }
+
+ private:
+  ZipArchive zip_;
+};
+
+// Entry "rgbd/3.depth" is the file <folder>/rgbd/3.depth.
+class FolderEntries : public Record3dEntries {
+ public:
+  explicit FolderEntries(const std::string& folder) : folder_(folder) {}
+  bool contains(const std::string& entry) const override {
+    return std::filesystem::is_regular_file(std::filesystem::path(folder_) / entry);
+  }
+  std::vector<uint8_t> read(const std::string& entry, uint64_t max_bytes) const override {
+    const std::filesystem::path path = std::filesystem::path(folder_) / entry;
+    std::error_code ec;
+    const uint64_t size = std::filesystem::file_size(path, ec);
+    if (ec) throw Error(folder_ + ": no file '" + entry + "'");
+    if (size > max_bytes) throw Error(path.string() + ": larger than " + std::to_string(max_bytes) + " bytes");
+    std::vector<uint8_t> bytes(size);
+    std::ifstream in(path, std::ios::binary);
+    if (!in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(size)))
+      throw Error(path.string() + ": cannot be read in full");
+    return bytes;
+  }
+  std::vector<std::string> entryNames() const override {
+    std::vector<std::string> names;
+    std::error_code ec;
+    for (const auto& e : std::filesystem::directory_iterator(std::filesystem::path(folder_) / "rgbd", ec))
+      names.push_back("rgbd/" + e.path().filename().string());
+    return names;
+  }
+
+ private:
+  std::string folder_;
+};
+
 }  // namespace
 
 Record3dCapture::Record3dCapture(const std::string& path, Record3dOptions options)
     : path_(path), options_(options) {
   if (options_.min_confidence < 0 || options_.min_confidence > 2)
     throw Error("min_confidence must be 0, 1 or 2, got " + std::to_string(options_.min_confidence));
-  zip_ = std::make_unique<ZipArchive>(path);
-  if (!zip_->contains("metadata")) throw Error(path + ": no 'metadata' entry (not a Record3D .r3d)");
+  if (!(options_.depth_units_per_metre > 0 && std::isfinite(options_.depth_units_per_metre)))
+    throw Error("depth_units_per_metre must be positive, got " + std::to_string(options_.depth_units_per_metre));
+  if (std::filesystem::is_directory(path))
+    zip_ = std::make_unique<FolderEntries>(path);
+  else
+    zip_ = std::make_unique<ZipEntries>(path);
+  if (!zip_->contains("metadata"))
+    throw Error(path + ": no 'metadata' " + (std::filesystem::is_directory(path) ? "file" : "entry") +
+                " (not a Record3D .r3d)");
   const auto text = zip_->read("metadata", 64 << 20);
   meta_ = parseRecord3dMetadata(std::string(text.begin(), text.end()), path + ": metadata");
 
@@ -162,7 +228,7 @@ Record3dCapture::Record3dCapture(const std::string& path, Record3dOptions option
 
   if (meta_.depth_width == 0) {
     // No dw/dh: the depth map has the RGB aspect ratio, so width = sqrt(pixels * w / h).
-    const auto first = lzfseDecode(zip_->read(depthEntry(0)));
+    const auto first = lzfseDecode(zip_->read(depthEntry(0), 256 << 20));
     const size_t pixels = first.size() / 4;
     const int w = int(std::lround(std::sqrt(double(pixels) * meta_.rgb_width / meta_.rgb_height)));
     const int h = w > 0 ? int(pixels / size_t(w)) : 0;
@@ -211,7 +277,7 @@ RgbdFrame Record3dCapture::load(int index) const {
     decodeEntryInto(confEntry(index), confidence.data(), pixels);
   }
   filterRecord3dDepth(frame.depth, confidence.empty() ? nullptr : confidence.data(),
-                      options_.min_confidence);
+                      options_.min_confidence, options_.depth_units_per_metre);
   if (options_.load_color) {
     const std::string entry = colorEntry(index);
     frame.color = decodeColorAtResolution(zip_->read(entry, 256 << 20), w, h,
@@ -221,8 +287,12 @@ RgbdFrame Record3dCapture::load(int index) const {
   return frame;
 }
 
+std::string Record3dCapture::kind() const {
+  return std::filesystem::is_directory(path_) ? "capture folder" : "capture";
+}
+
 std::string Record3dCapture::description() const {
-  return "Record3D capture " + path_ + ": " + std::to_string(frame_count_) + " frames, depth " +
+  return "Record3D " + kind() + " " + path_ + ": " + std::to_string(frame_count_) + " frames, depth " +
          std::to_string(meta_.depth_width) + "x" + std::to_string(meta_.depth_height) + ", RGB " +
          std::to_string(meta_.rgb_width) + "x" + std::to_string(meta_.rgb_height) +
          (has_confidence_ ? ", min confidence " + std::to_string(options_.min_confidence)

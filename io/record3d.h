@@ -7,6 +7,7 @@
 // Metadata keys used: w, h, K (3x3 column-major, for w x h), poses (per frame qx qy qz qw tx ty tz,
 // camera-to-world, ARKit camera axes x right / y up / z backward), fps, optional dw, dh,
 // frameTimestamps. Captures without dw/dh get them from the size of frame 0's depth map.
+// The folder a .r3d unzips to (the same `metadata` and `rgbd/` entries as files) reads the same.
 #include <array>
 #include <memory>
 #include <string>
@@ -16,12 +17,14 @@
 
 namespace vf {
 
-class ZipArchive;
+class Record3dEntries;
 
 struct Record3dOptions {
   // Depth pixels whose ARKit confidence is below this (0, 1 or 2) become 0 = no reading.
   int min_confidence = 2;
   bool load_color = true;
+  // Depth values per metre: 1 for Record3D's float metres; anything else rescales them.
+  float depth_units_per_metre = 1.f;
 };
 
 struct Record3dMetadata {
@@ -54,13 +57,15 @@ ColorImage decodeColorAtResolution(const std::vector<uint8_t>& encoded, int widt
                                    const std::string& what);
 
 // Zeroes depth that is not finite or not positive, and where confidence < min_confidence
-// (confidence may be null when the capture has none).
-void filterRecord3dDepth(DepthImage& depth_m, const uint8_t* confidence, int min_confidence);
+// (confidence may be null when the capture has none); divides the rest by units_per_metre.
+void filterRecord3dDepth(DepthImage& depth_m, const uint8_t* confidence, int min_confidence,
+                         float units_per_metre = 1.f);
 
 class Record3dCapture : public FrameSource {
  public:
-  // Opens the archive and parses its metadata; throws vf::Error naming the file (and entry) when
-  // the archive is not a zip, lacks metadata or a frame entry, or has inconsistent sizes.
+  // Opens the archive (a .r3d file, or the folder it unzips to) and parses its metadata; throws
+  // vf::Error naming the file (and entry) when the archive is not a zip, lacks metadata or a
+  // frame entry, or has inconsistent sizes.
   explicit Record3dCapture(const std::string& path, Record3dOptions options = {});
   ~Record3dCapture() override;
 
@@ -76,10 +81,11 @@ class Record3dCapture : public FrameSource {
  private:
   // Reads an LZFSE entry and decodes it into exactly `bytes` bytes at dst.
   void decodeEntryInto(const std::string& entry, uint8_t* dst, size_t bytes) const;
+  std::string kind() const;  // "capture" or "capture folder"
 
   std::string path_;
   Record3dOptions options_;
-  std::unique_ptr<ZipArchive> zip_;
+  std::unique_ptr<Record3dEntries> zip_;  // the zip or the folder
   Record3dMetadata meta_;
   Intrinsics depth_intrinsics_;
   int frame_count_ = 0;

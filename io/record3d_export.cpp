@@ -115,7 +115,7 @@ RgbdFrame Record3dExport::load(int index) const {
     if (!conf.isContinuous()) conf = conf.clone();
   }
   filterRecord3dDepth(frame.depth, conf.empty() ? nullptr : conf.ptr<uint8_t>(0),
-                      options_.min_confidence);
+                      options_.min_confidence, options_.depth_units_per_metre);
   if (options_.load_color) {
     const std::string path = colorPath(index);
     if (!fs::exists(path)) throw Error(path + ": colour image missing");
@@ -135,7 +135,9 @@ std::unique_ptr<FrameSource> openRecord3d(const std::string& path, Record3dOptio
   const fs::path p(path);
   if (fs::is_directory(p)) {
     if (fs::exists(p / "metadata.json")) return std::make_unique<Record3dExport>(path, options);
-    throw Error(path + ": a folder without metadata.json is not a Record3D export");
+    if (fs::exists(p / "metadata") && fs::is_directory(p / "rgbd")) return std::make_unique<Record3dCapture>(path, options);
+    throw Error(path + ": a folder without metadata.json (an export) or metadata + rgbd/ (an unzipped .r3d) is not a "
+                "Record3D capture");
   }
   if (!fs::exists(p)) throw Error(path + ": no such file or folder");
   if (p.extension() == ".r3d") return std::make_unique<Record3dCapture>(path, options);

@@ -1,19 +1,93 @@
 #include "io/undistort.h"
 
-#include <opencv2/imgproc.hpp>
+#include <cmath>
+#include <cstdint>
 #include <string>
+
+// The remaps below reproduce cv::remap (OpenCV 4, imgwarp.cpp) for float maps bit for bit, so
+// that undistorted frames are the same with and without OpenCV (tests/io/undistort_test.cpp
+// compares them): nearest neighbour rounds the map to the nearest integer (ties to even),
+// bilinear works in 1/32 pixel steps with 15-bit fixed-point weights.
 
 namespace vf {
 namespace {
 
-// Wraps host images as cv::Mat headers (no copy).
-template <class T>
-cv::Mat header(const Image<T>& image, int type) {
-  return cv::Mat(image.height(), image.width(), type, const_cast<T*>(image.data()));
+// OpenCV's cvRound / saturate_cast<short>: round to nearest, ties to even (the default FP mode).
+inline int roundToInt(float v) { return int(std::lrint(v)); }
+inline int saturateShort(int v) { return v < -32768 ? -32768 : v > 32767 ? 32767 : v; }
+inline int clampIndex(int v, int size) { return v < 0 ? 0 : v >= size ? size - 1 : v; }
+
+constexpr int kInterBits = 5;
+constexpr int kInterTab = 1 << kInterBits;  // 32 sub-pixel steps
+constexpr int kCoefBits = 15;
+
+// Bilinear weights for a sub-pixel offset (fx, fy) in 1/32 steps, summing to 2^15 as OpenCV's
+// BilinearTab_i: (32 - f) * (32 - g) * 32 and so on, except at (0, 0), where 2^15 does not fit a
+// short and OpenCV's table holds {32767, 0, 0, 1}.
+struct BilinearWeights {
+  int w[kInterTab * kInterTab][4];
+  BilinearWeights() {
+    for (int fy = 0; fy < kInterTab; ++fy)
+      for (int fx = 0; fx < kInterTab; ++fx) {
+        int* t = w[fy * kInterTab + fx];
+        t[0] = (kInterTab - fy) * (kInterTab - fx) * 32;
+        t[1] = (kInterTab - fy) * fx * 32;
+        t[2] = fy * (kInterTab - fx) * 32;
+        t[3] = fy * fx * 32;
+      }
+    int* zero = w[0];
+    zero[0] = 32767, zero[1] = 0, zero[2] = 0, zero[3] = 1;
+  }
+};
+
+const BilinearWeights& bilinearWeights() {
+  static const BilinearWeights weights;
+  return weights;
 }
+
+// Nearest neighbour; outside the image: `outside` (constant border) or the nearest edge pixel.
 template <class T>
-cv::Mat header(Image<T>& image, int type) {
-  return cv::Mat(image.height(), image.width(), type, image.data());
+void remapNearest(const T* src, T* dst, int width, int height, const float* map_x, const float* map_y, bool replicate,
+                  T outside) {
+  for (size_t i = 0; i < size_t(width) * height; ++i) {
+    int sx = saturateShort(roundToInt(map_x[i])), sy = saturateShort(roundToInt(map_y[i]));
+    if (unsigned(sx) < unsigned(width) && unsigned(sy) < unsigned(height)) {
+      dst[i] = src[size_t(sy) * width + sx];
+    } else if (replicate) {
+      dst[i] = src[size_t(clampIndex(sy, height)) * width + clampIndex(sx, width)];
+    } else {
+      dst[i] = outside;
+    }
+  }
+}
+
+// Bilinear, RGBA 8 bit, constant border `outside` for samples beyond the image.
+void remapBilinearRgba(const Rgb8* src, Rgb8* dst, int width, int height, const float* map_x, const float* map_y,
+                       Rgb8 outside) {
+  const BilinearWeights& table = bilinearWeights();
+  auto channels = [](const Rgb8& p, int k) { return k == 0 ? p.r : k == 1 ? p.g : k == 2 ? p.b : p.a; };
+  for (size_t i = 0; i < size_t(width) * height; ++i) {
+    const int X = roundToInt(map_x[i] * float(kInterTab)), Y = roundToInt(map_y[i] * float(kInterTab));
+    const int sx = saturateShort(X >> kInterBits), sy = saturateShort(Y >> kInterBits);
+    if (sx >= width || sx + 1 < 0 || sy >= height || sy + 1 < 0) {
+      dst[i] = outside;
+      continue;
+    }
+    const int* w = table.w[(Y & (kInterTab - 1)) * kInterTab + (X & (kInterTab - 1))];
+    const bool x0 = sx >= 0, x1 = sx + 1 < width, y0 = sy >= 0, y1 = sy + 1 < height;
+    const Rgb8& p00 = x0 && y0 ? src[size_t(sy) * width + sx] : outside;
+    const Rgb8& p01 = x1 && y0 ? src[size_t(sy) * width + sx + 1] : outside;
+    const Rgb8& p10 = x0 && y1 ? src[size_t(sy + 1) * width + sx] : outside;
+    const Rgb8& p11 = x1 && y1 ? src[size_t(sy + 1) * width + sx + 1] : outside;
+    uint8_t out[4];
+    for (int k = 0; k < 4; ++k) {
+      const int sum = channels(p00, k) * w[0] + channels(p01, k) * w[1] + channels(p10, k) * w[2] +
+                      channels(p11, k) * w[3];
+      const int v = (sum + (1 << (kCoefBits - 1))) >> kCoefBits;
+      out[k] = uint8_t(v < 0 ? 0 : v > 255 ? 255 : v);
+    }
+    dst[i] = {out[0], out[1], out[2], out[3]};
+  }
 }
 
 }  // namespace
@@ -46,31 +120,21 @@ void Undistorter::checkSize(int width, int height, const char* what) const {
 DepthImage Undistorter::undistortDepth(const DepthImage& depth_m) const {
   checkSize(depth_m.width(), depth_m.height(), "depth");
   DepthImage out(width_, height_);
-  const cv::Mat mx(height_, width_, CV_32FC1, const_cast<float*>(map_x_.data()));
-  const cv::Mat my(height_, width_, CV_32FC1, const_cast<float*>(map_y_.data()));
-  cv::Mat dst = header(out, CV_32FC1);
-  cv::remap(header(depth_m, CV_32FC1), dst, mx, my, cv::INTER_NEAREST, cv::BORDER_CONSTANT, cv::Scalar(0));
+  remapNearest(depth_m.data(), out.data(), width_, height_, map_x_.data(), map_y_.data(), false, 0.f);
   return out;
 }
 
 ColorImage Undistorter::undistortColor(const ColorImage& color) const {
   checkSize(color.width(), color.height(), "colour");
   ColorImage out(width_, height_);
-  const cv::Mat mx(height_, width_, CV_32FC1, const_cast<float*>(map_x_.data()));
-  const cv::Mat my(height_, width_, CV_32FC1, const_cast<float*>(map_y_.data()));
-  cv::Mat dst = header(out, CV_8UC4);
-  cv::remap(header(color, CV_8UC4), dst, mx, my, cv::INTER_LINEAR, cv::BORDER_CONSTANT,
-            cv::Scalar(0, 0, 0, 255));
+  remapBilinearRgba(color.data(), out.data(), width_, height_, map_x_.data(), map_y_.data(), Rgb8{0, 0, 0, 255});
   return out;
 }
 
 LabelImage Undistorter::undistortLabels(const LabelImage& labels) const {
   checkSize(labels.width(), labels.height(), "label map");
   LabelImage out(width_, height_);
-  const cv::Mat mx(height_, width_, CV_32FC1, const_cast<float*>(map_x_.data()));
-  const cv::Mat my(height_, width_, CV_32FC1, const_cast<float*>(map_y_.data()));
-  cv::Mat dst = header(out, CV_16UC1);
-  cv::remap(header(labels, CV_16UC1), dst, mx, my, cv::INTER_NEAREST, cv::BORDER_REPLICATE);
+  remapNearest(labels.data(), out.data(), width_, height_, map_x_.data(), map_y_.data(), true, uint16_t(0));
   return out;
 }
 

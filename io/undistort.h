@@ -25,11 +25,14 @@ class Undistorter {
 
   int width() const { return width_; }
   int height() const { return height_; }
+  // Where each output pixel samples the input (row-major, pixels), for tests against cv::remap.
+  const std::vector<float>& mapX() const { return map_x_; }
+  const std::vector<float>& mapY() const { return map_y_; }
 
  private:
   void checkSize(int width, int height, const char* what) const;
   int width_ = 0, height_ = 0;
-  // For each output pixel, where to sample the distorted input (CV_32FC1 maps).
+  // For each output pixel, where to sample the distorted input (float pixel coordinates).
   std::vector<float> map_x_, map_y_;
 };
 

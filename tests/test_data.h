@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -12,8 +13,11 @@
 
 namespace vf::test {
 
+// The environment variable VDBFUSE_DATA_DIR, where set, wins over the folder compiled in: the
+// GPU bundle (scripts/gpu_bundle.sh) carries its own compact copy of the captures.
 inline std::string dataPath(const std::string& relative) {
-  return std::string(VDBFUSE_DATA_DIR) + "/" + relative;
+  const char* override_dir = std::getenv("VDBFUSE_DATA_DIR");
+  return std::string(override_dir && *override_dir ? override_dir : VDBFUSE_DATA_DIR) + "/" + relative;
 }
 
 // Returns the absolute path, or records a fatal failure naming it when it does not exist.

@@ -51,7 +51,7 @@ void setup(CLI::App& root) {
   auto options = std::make_shared<ConvertOptions>();
   CLI::App* cmd = root.add_subcommand(
       "convert", "Convert a Record3D capture (.r3d or EXR+JPG export) into a TUM RGB-D folder");
-  cmd->add_option("capture", options->capture, "Record3D .r3d file or export folder (metadata.json)")
+  cmd->add_option("capture", options->capture, "Record3D .r3d file, the folder it unzips to, or an export folder (metadata.json)")
       ->required();
   cmd->add_option("output", options->output, "output folder (must not exist unless --force)")
       ->required();

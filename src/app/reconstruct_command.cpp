@@ -71,6 +71,7 @@ RunSettings runSettings(const ReconstructOptions& o, const FrameSource& source, 
   return {{"dataset", ec ? o.dataset : dataset.string()}, {"dataset_frames", std::to_string(source.size())},
           {"max_frames", std::to_string(o.max_frames)},     {"device", deviceName(device)},
           {"poses", o.poses},                               {"format", o.source.format},
+          {"dataset_options", datasetOptionsKey(o.source)},
           {"min_confidence", std::to_string(o.source.min_confidence)},
           {"max_depth_m", std::to_string(o.max_depth_m)},   {"intrinsics", o.intrinsics},
           {"labels", o.labels_dir},                         {"classes", o.classes_file},
@@ -109,7 +110,7 @@ void claimOutputs(const ReconstructOptions& o) {
         throw Error("--renders " + o.renders_dir + " already holds frame_*.png renders; pass --force to overwrite them");
 }
 
-ReconstructionOptions fusionOptions(const ReconstructOptions& o, const LabeledFrameSource* labeled) {
+ReconstructionOptions fusionOptions(const ReconstructOptions& o, const LabeledFrameSource* labeled, bool photometric) {
   if (o.volume_size)
     throw Error("--volume-size is gone: the volume has no box any more and grows with the scene; set the detail with "
                 "--voxel-size-m and the range with --max-depth-m");
@@ -122,6 +123,7 @@ ReconstructionOptions fusionOptions(const ReconstructOptions& o, const LabeledFr
     throw Error("--class-vote " + o.class_vote + ": expected majority or probabilistic");
   r.params.integration.class_vote = o.class_vote == "majority" ? ClassVote::Majority : ClassVote::Probabilistic;
   r.params.integration.class_vote_seed = o.class_vote_seed;
+  if (!photometric) r.params.icp.photometric_weight = 0;
   r.params.validate();
   r.device = resolveDevice(parseDevice(o.device));
   r.poses = parsePoses(o.poses);
@@ -144,6 +146,9 @@ void runReconstruct(const ReconstructOptions& o) {
   SourceOptions source_options = o.source;
   if (!o.intrinsics.empty()) source_options.intrinsics = o.intrinsics;
   std::unique_ptr<FrameSource> source = openFrameSource(o.dataset, source_options);
+  std::string photometric_note;
+  const bool photometric = photometricTermWanted(source_options, *source, &photometric_note);
+  if (!photometric_note.empty() && !o.quiet) std::fprintf(stderr, "%s\n", photometric_note.c_str());
   if (o.labels_dir.empty() && (!o.classes_file.empty() || !o.dynamic_classes.empty()))
     throw Error("--classes and --dynamic-classes need --labels DIR (per-frame label maps)");
   LabeledFrameSource* labeled = nullptr;
@@ -153,7 +158,7 @@ void runReconstruct(const ReconstructOptions& o) {
     labeled = wrapped.get();
     source = std::move(wrapped);
   }
-  ReconstructionOptions fusion = fusionOptions(o, labeled);
+  ReconstructionOptions fusion = fusionOptions(o, labeled, photometric);
   fusion.settings = runSettings(o, *source, fusion.device);
   checkGpuFits(o, fusion, source->depthIntrinsics());
   Reconstruction run(*source, fusion);
@@ -241,7 +246,7 @@ void runReconstruct(const ReconstructOptions& o) {
 void setup(CLI::App& root) {
   auto o = std::make_shared<ReconstructOptions>();
   CLI::App* cmd = root.add_subcommand("reconstruct", "Fuse an RGB-D sequence into a scene (.vdb)");
-  cmd->add_option("dataset", o->dataset, "TUM folder, Record3D .r3d file or Record3D export folder")->required();
+  cmd->add_option("dataset", o->dataset, std::string("RGB-D input, detected from its files:\n") + kKnownLayouts)->required();
   cmd->add_option("-o,--output", o->output, "Scene file to write (.vdb)");
   cmd->add_option("--trajectory", o->trajectory, "Camera trajectory to write (TUM format; default: the scene's path with .txt)");
   cmd->add_option("--voxel-size-m", o->voxel_size_m, "Voxel edge in metres")->capture_default_str();
@@ -253,7 +258,9 @@ void setup(CLI::App& root) {
   cmd->add_option("--poses", o->poses, "icp, given (recorded poses, in their own world frame) or given+icp")
       ->capture_default_str();
   cmd->add_option("--intrinsics", o->intrinsics, "fx,fy,cx,cy overriding the dataset's calibration");
-  cmd->add_option("--format", o->source.format, "auto, tum, r3d or r3d-export")->capture_default_str();
+  cmd->add_option("--format", o->source.format, "auto, tum, r3d, r3d-export, 7scenes, replica, scannet or redwood")
+      ->capture_default_str();
+  addDatasetOptions(*cmd, o->source);
   cmd->add_option("--min-confidence", o->source.min_confidence, "Record3D: lowest depth confidence kept (0-2)")
       ->capture_default_str();
   cmd->add_option("--labels", o->labels_dir, "Folder of per-frame label maps (8/16-bit PNG class ids, by file stem or frame index)");

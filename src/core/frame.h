@@ -33,6 +33,10 @@ class FrameSource {
   virtual std::string description() const = 0;
   // Ground-truth trajectory if the source has one (TUM groundtruth.txt), else empty.
   virtual Trajectory groundTruth() const { return {}; }
+  // False when colour pixel (u, v) does not see what depth pixel (u, v) sees (ScanNet: colour from
+  // another camera, resampled to the depth size), so that colour terms that assume it
+  // (photometric tracking) should be left out.
+  virtual bool colorRegisteredToDepth() const { return true; }
 };
 
 }  // namespace vf

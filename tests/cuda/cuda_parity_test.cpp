@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <iterator>
 #include <memory>
@@ -173,8 +174,26 @@ BothRuns runBoth(const std::vector<RgbdFrame>& frames, const PipelineParams& par
   return runs;
 }
 
+// One "[parity] <test>: ..." line per comparison, so that the GPU bundle's summary
+// (scripts/gpu_bundle.sh) can quote the differences as numbers, not only pass or fail.
+void report(const std::string& what) {
+  std::printf("[parity] %s: %s\n", ::testing::UnitTest::GetInstance()->current_test_info()->name(), what.c_str());
+  std::fflush(stdout);
+}
+
+void reportVolume(const VolumeDiff& d) { report("volume: " + d.str()); }
+
 void expectSamePoses(const BothRuns& runs) {
   ASSERT_EQ(runs.cpu.results.size(), runs.gpu.results.size());
+  double max_m = 0, max_deg = 0;
+  for (size_t i = 0; i < runs.cpu.results.size(); ++i) {
+    max_m = std::max(max_m, translationDiffM(runs.cpu.results[i].T_world_cam, runs.gpu.results[i].T_world_cam));
+    max_deg = std::max(max_deg, rotationDiffDeg(runs.cpu.results[i].T_world_cam, runs.gpu.results[i].T_world_cam));
+  }
+  char line[128];
+  std::snprintf(line, sizeof line, "poses: max difference %.3g mm, %.3g deg over %zu frames", max_m * 1000, max_deg,
+                runs.cpu.results.size());
+  report(line);
   for (size_t i = 0; i < runs.cpu.results.size(); ++i) {
     const FrameResult& a = runs.cpu.results[i];
     const FrameResult& b = runs.gpu.results[i];
@@ -197,6 +216,8 @@ void expectSameRaycasts(BothRuns& runs) {
     const Prediction b = runs.gpu.pipeline->predictFrom(pose, true);
     const RaycastDiff d = compareRaycasts(a, b);
     const int total = a.vertex_world.width() * a.vertex_world.height();
+    report("raycast: " + std::to_string(d.disagreeing) + " of " + std::to_string(d.pixels) +
+           " surface pixels differ, max vertex difference " + std::to_string(d.max_vertex_diff_m * 1000) + " mm");
     EXPECT_GT(d.pixels, total / 10) << "the raycast found almost no surface";
     EXPECT_GE(d.agreement(), kMinRaycastAgreement)
         << d.disagreeing << " of " << d.pixels << " surface pixels differ (max vertex difference "
@@ -260,7 +281,9 @@ TEST(CudaParity, TumWithRecordedPosesFusesTheSameVolumeAndRaycast) {
   ASSERT_EQ(int(frames.size()), kTumFrames);
   BothRuns runs = runBoth(frames, PipelineParams{}, k, PoseSource::Given);
   expectSamePoses(runs);
-  expectIdenticalVolumes(compareVolumes(runs.cpu.pipeline->hostVolume(), runs.gpu.pipeline->hostVolume()));
+  const VolumeDiff d = compareVolumes(runs.cpu.pipeline->hostVolume(), runs.gpu.pipeline->hostVolume());
+  reportVolume(d);
+  expectIdenticalVolumes(d);
   expectSameRaycasts(runs);
 }
 
@@ -274,6 +297,7 @@ TEST(CudaParity, TumWithIcpTracksTheSamePosesAndFusesTheSameVolume) {
     EXPECT_TRUE(runs.cpu.results[i].tracked) << "frame " << i << ": " << runs.cpu.results[i].lost_reason;
   expectSamePoses(runs);
   const VolumeDiff d = compareVolumes(runs.cpu.pipeline->hostVolume(), runs.gpu.pipeline->hostVolume());
+  reportVolume(d);
   EXPECT_GT(d.observed, 10000u);
   // Poses agree to float rounding; at most 1 voxel in 10^4 may see a neighbouring pixel.
   EXPECT_LE(double(d.disagreeing), 1e-4 * double(d.observed)) << d.str();
@@ -286,7 +310,9 @@ TEST(CudaParity, SyntheticSceneWithRecordedPosesIsIdentical) {
   const Intrinsics k = test::testCamera();
   BothRuns runs = runBoth(syntheticFrames(10, k, false), syntheticParams(), k, PoseSource::Given);
   expectSamePoses(runs);
-  expectIdenticalVolumes(compareVolumes(runs.cpu.pipeline->hostVolume(), runs.gpu.pipeline->hostVolume()));
+  const VolumeDiff d = compareVolumes(runs.cpu.pipeline->hostVolume(), runs.gpu.pipeline->hostVolume());
+  reportVolume(d);
+  expectIdenticalVolumes(d);
   expectSameRaycasts(runs);
 }
 
@@ -302,6 +328,7 @@ TEST(CudaParity, SyntheticSceneWithIcpTracksTheSamePosesAsTheCpuAndTheTruth) {
     EXPECT_LE(rotationDiffDeg(runs.gpu.results[i].T_world_cam, *frames[i].T_world_cam_given), 0.2) << "frame " << i;
   }
   const VolumeDiff d = compareVolumes(runs.cpu.pipeline->hostVolume(), runs.gpu.pipeline->hostVolume());
+  reportVolume(d);
   EXPECT_LE(double(d.disagreeing), 1e-4 * double(d.observed)) << d.str();
   expectSameRaycasts(runs);
 }
@@ -313,6 +340,7 @@ TEST(CudaParity, SyntheticSceneWithLabelsAndADynamicClassIsIdentical) {
   BothRuns runs = runBoth(syntheticFrames(10, k, true), syntheticParams(), k, PoseSource::Given,
                           /*with_classes=*/true, /*dynamic=*/{1});
   const VolumeDiff d = compareVolumes(runs.cpu.pipeline->hostVolume(), runs.gpu.pipeline->hostVolume());
+  reportVolume(d);
   expectIdenticalVolumes(d);
   EXPECT_GT(d.voted, 10000u) << "the class vote path was hardly exercised";
   expectSameRaycasts(runs);
@@ -327,6 +355,7 @@ TEST(CudaParity, SyntheticSceneWithProbabilisticClassVotesIsIdentical) {
   params.integration.class_vote_seed = 7;
   BothRuns runs = runBoth(syntheticFrames(10, k, true), params, k, PoseSource::Given, /*with_classes=*/true);
   const VolumeDiff d = compareVolumes(runs.cpu.pipeline->hostVolume(), runs.gpu.pipeline->hostVolume());
+  reportVolume(d);
   expectIdenticalVolumes(d);
   EXPECT_GT(d.voted, 10000u) << "the class vote path was hardly exercised";
 }

@@ -160,8 +160,11 @@ TEST(Slice, WeightPlaneAndRangeErrors) {
   const SliceImage s = sampleSlice(scene, summary, SliceGrid::kWeight, 0, sliceIndexAt(scene, summary, 0, 0.1f));
   EXPECT_EQ(s.width * s.height, int(s.values.size()));
   EXPECT_FLOAT_EQ(s.range_max, 10.f);  // fillSdf's weight
-  for (float x : s.values)
-    if (std::isfinite(x)) ASSERT_FLOAT_EQ(x, 10.f);
+  for (float x : s.values) {
+    if (std::isfinite(x)) {
+      ASSERT_FLOAT_EQ(x, 10.f);
+    }
+  }
   EXPECT_EQ(sliceTitle(SliceGrid::kWeight), "weight [frames]");
   EXPECT_EQ(sliceTitle(SliceGrid::kTsdf), "tsdf [mm]");
   EXPECT_FLOAT_EQ(sliceDisplayScale(SliceGrid::kTsdf), 1000.f);

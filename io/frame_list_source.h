@@ -1,0 +1,63 @@
+#pragma once
+// A FrameSource over a list of image files: what 7-Scenes/3DMatch, Replica, ScanNet and Redwood
+// folders become once their layout is read (io/dataset_layouts.h). Depth is a 16-bit PNG in
+// `depth_units_per_metre`, colour any PNG/JPG; poses and timestamps come with the list.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/frame.h"
+
+namespace vf {
+
+struct FrameFiles {
+  std::string depth;                    // 16-bit PNG path
+  std::string color;                    // PNG/JPG path, empty when there is none
+  std::optional<Pose> T_world_cam;      // camera-to-world from the dataset, when it has one
+  double timestamp = 0;                 // seconds
+  std::string name;                     // file stem, matches label maps
+};
+
+struct FrameList {
+  std::string folder;
+  std::string layout;                   // "7-Scenes/3DMatch", "Replica", ... (for messages)
+  std::vector<FrameFiles> frames;
+  float fx = 0, fy = 0, cx = 0, cy = 0; // depth camera
+  std::string intrinsics_source;
+  int expected_width = 0, expected_height = 0;  // 0 = take the first depth image's size
+  float depth_units_per_metre = 1000;
+  std::string depth_scale_source;
+  uint16_t depth_invalid_value = 0;     // a second "no reading" value besides 0 (7-Scenes: 65535)
+  bool color_registered = true;         // colour pixel (u, v) sees what depth pixel (u, v) sees
+  bool resize_color = false;            // colour at another size is area-resized to the depth size
+};
+
+class FrameListSource : public FrameSource {
+ public:
+  // Reads the first depth image for the size; throws vf::Error naming the file when it is
+  // missing or does not match expected_width x expected_height.
+  explicit FrameListSource(FrameList list);
+
+  int size() const override { return int(list_.frames.size()); }
+  RgbdFrame load(int index) const override;  // thread-safe
+  Intrinsics depthIntrinsics() const override { return intrinsics_; }
+  std::string description() const override;
+  // The dataset's poses, with the frames' timestamps (frames without one are left out).
+  Trajectory groundTruth() const override;
+  bool colorRegisteredToDepth() const override { return list_.color_registered; }
+
+  const FrameList& list() const { return list_; }
+
+ private:
+  FrameList list_;
+  Intrinsics intrinsics_;
+};
+
+// 16-bit PNG -> metres: raw / units_per_metre, with 0 and `invalid_value` (when non-zero)
+// meaning no reading.
+DepthImage readScaledDepthPng(const std::string& path, float units_per_metre, uint16_t invalid_value);
+
+// Box-filters `color` to width x height (each output pixel the mean of the input it covers).
+ColorImage resizeColorArea(const ColorImage& color, int width, int height);
+
+}  // namespace vf

@@ -1,0 +1,63 @@
+// ScanNet's exported frames (SensReader's reader.py: color/ depth/ pose/ intrinsic/), see
+// io/dataset_layouts.h.
+#include <algorithm>
+#include <filesystem>
+#include <regex>
+
+#include "core/error.h"
+#include "io/dataset_layouts.h"
+#include "io/dataset_text.h"
+
+namespace vf {
+namespace {
+namespace fs = std::filesystem;
+}
+
+bool looksLikeScanNet(const std::string& folder) {
+  const fs::path dir(folder);
+  return fs::is_directory(dir / "depth") && fs::is_directory(dir / "pose") &&
+         fs::exists(dir / "intrinsic" / "intrinsic_depth.txt");
+}
+
+FrameList readScanNet(const std::string& folder, const LayoutOptions& options) {
+  const fs::path dir(folder);
+  FrameList list;
+  list.folder = folder;
+  list.layout = "ScanNet";
+  list.depth_units_per_metre = 1000;
+  list.depth_scale_source = "millimetres, as ScanNet exports depth";
+  // The iPad's colour camera and the Structure depth sensor: different sensors, different sizes.
+  list.color_registered = false;
+  list.resize_color = true;
+  const std::string intrinsics = (dir / "intrinsic" / "intrinsic_depth.txt").string();
+  const PinholeMatrix k = parseIntrinsicMatrix(readTextFile(intrinsics, 1 << 20), intrinsics);
+  list.fx = k.fx, list.fy = k.fy, list.cx = k.cx, list.cy = k.cy;
+  list.intrinsics_source = intrinsics;
+
+  static const std::regex pattern(R"((\d{1,9})\.png)");
+  std::vector<long> numbers;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(dir / "depth", ec)) {
+    std::smatch m;
+    const std::string name = entry.path().filename().string();
+    if (std::regex_match(name, m, pattern)) numbers.push_back(std::stol(m[1].str()));
+  }
+  std::sort(numbers.begin(), numbers.end());
+  for (const long n : numbers) {
+    const std::string stem = std::to_string(n);
+    FrameFiles f;
+    f.name = stem;
+    f.depth = (dir / "depth" / (stem + ".png")).string();
+    for (const char* ext : {".jpg", ".png"})
+      if (fs::exists(dir / "color" / (stem + ext))) f.color = (dir / "color" / (stem + ext)).string();
+    const fs::path pose = dir / "pose" / (stem + ".txt");
+    if (fs::exists(pose)) f.T_world_cam = readPoseMatrixFile(pose.string());  // -inf (lost): none
+    f.timestamp = double(n) / kDatasetFrameRateHz;
+    list.frames.push_back(std::move(f));
+  }
+  if (list.frames.empty()) throw Error(folder + "/depth: no N.png depth frames (not a ScanNet export)");
+  applyLayoutOptions(list, options);
+  return list;
+}
+
+}  // namespace vf
