@@ -215,7 +215,7 @@ TEST(EvaluateMesh, TrajectoryAlignsTheMeshAndLimitsCompletionToWhatWasSeen) {
   int status = 0;
   std::string log = run("reconstruct " + replica + " --poses given -o " + dir + "/s.vdb" + kSmall, status);
   ASSERT_EQ(status, 0) << log;
-  log = run("mesh " + dir + "/s.vdb -o " + dir + "/s.ply", status);
+  log = run("mesh " + dir + "/s.vdb --axes camera -o " + dir + "/s.ply", status);  // the scene's own frame
   ASSERT_EQ(status, 0) << log;
   const std::string eval = "evaluate --mesh " + dir + "/s.ply --reference " + dir + "/wall.ply --samples 200000";
   log = run(eval + " --trajectory " + dir + "/s.txt --dataset " + replica, status);
