@@ -14,6 +14,9 @@ struct Vec3f {
 struct Vec2i {
   int x, y;
 };
+struct Vec2f {
+  float x, y;
+};
 struct Vec3i {
   int x, y, z;
 };

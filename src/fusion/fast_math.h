@@ -24,6 +24,14 @@ VF_HD float fastExp(float x) {
   return p * scale;
 }
 
+// A quiet NaN, the same bits on host and device (marks "no value" that arithmetic carries along).
+VF_HD float quietNaN() {
+  const uint32_t bits = 0x7fc00000u;
+  float f;
+  memcpy(&f, &bits, sizeof(f));
+  return f;
+}
+
 VF_HD int clampInt(int v, int lo, int hi) { return v < lo ? lo : (v > hi ? hi : v); }
 VF_HD float clampFloat(float v, float lo, float hi) { return v < lo ? lo : (v > hi ? hi : v); }
 

@@ -21,7 +21,6 @@ struct MarkBricksKernel {
   VolumeView volume;
   float min_depth_m = 0.2f, max_depth_m = 4.f;
   uint32_t stamp = 1;      // this frame (1-based): an entry stamped with it is already listed
-  uint32_t* entry_stamp;   // per hash entry
   int* frame_entries;      // hash entries touched by this frame, each once
   int* frame_count;
   int* overflow;           // set when the hash table is too full for an insert
@@ -40,10 +39,13 @@ struct MarkBricksKernel {
     const float trunc = volume.truncation_m;
     const Vec3f ray_cam = intrinsics.backProject(float(x), float(y), 1.f);  // z = 1
     const float inv_voxel = 1.f / volume.voxel_size_m;
-    // Half-size of the box around each step, in voxels: half a step, the strided pixels'
-    // footprint at the far end of the band, and one voxel for the projection's rounding.
-    const float footprint_vox = (d + trunc) * float(stride_px) / intrinsics.fx * inv_voxel;
-    const float half_box = 0.5f * step_vox + footprint_vox + 1.f;
+    // Half-size of the box around each step, in voxels: half a step, and how far a voxel fused
+    // through a skipped neighbouring pixel can lie from this pixel's ray at the far end of the
+    // band: stride - 1 pixels to that neighbour plus half a pixel for the projection's rounding.
+    // The box covers every voxel whose centre lies within it, so no rounding slack is needed;
+    // anything more only allocates bricks that hold no band voxel (a third of them did).
+    const float footprint_vox = (d + trunc) * (float(stride_px) - 0.5f) / intrinsics.fx * inv_voxel;
+    const float half_box = 0.5f * step_vox + footprint_vox;
     const float z_begin = d - trunc > 0.f ? d - trunc : 0.f, z_end = d + trunc;
     const float dz = step_vox * volume.voxel_size_m / norm(ray_cam);
     const float span = (z_end - z_begin) / dz;
@@ -67,7 +69,8 @@ struct MarkBricksKernel {
       return;
     }
     // The exchange tells exactly one thread that the entry is new to this frame: it is listed once.
-    if (loadRelaxed(entry_stamp + e) != stamp && exchange(entry_stamp + e, stamp) != stamp)
+    uint32_t* entry_stamp = &volume.hash.entries[e].stamp;
+    if (loadRelaxed(entry_stamp) != stamp && exchange(entry_stamp, stamp) != stamp)
       frame_entries[atomicIncrement(frame_count)] = e;
   }
 };
@@ -78,7 +81,7 @@ struct CountNewBricksKernel {
   const int* frame_entries;
   int* count;
   VF_HD void operator()(int i) const {
-    if (hash.slots[frame_entries[i]] < 0) atomicIncrement(count);
+    if (hash.entries[frame_entries[i]].slot < 0) atomicIncrement(count);
   }
 };
 
@@ -95,15 +98,15 @@ struct AssignSlotsKernel {
 
   VF_HD void operator()(int i) const {
     const int e = frame_entries[i];
-    int slot = volume.hash.slots[e];
+    int slot = volume.hash.entries[e].slot;
     if (slot < 0) {
       slot = atomicIncrement(slot_count);
       if (slot >= pool_capacity) {
         *pool_full = 1;
         slot = -1;
       } else {
-        volume.hash.slots[e] = slot;
-        volume.brick_coords[slot] = brickFromKey(volume.hash.keys[e]);
+        volume.hash.entries[e].slot = slot;
+        volume.brick_coords[slot] = brickFromKey(volume.hash.entries[e].key);
       }
     }
     frame_slots[i] = slot;

@@ -36,6 +36,7 @@ void IcpParams::validate() const {
   require(finest_stride_px >= 1 && finest_stride_px <= 8, "IcpParams.finest_stride_px", finest_stride_px,
           "must be in [1, 8]");
   require(max_distance_m > 0, "IcpParams.max_distance_m", max_distance_m, "must be > 0");
+  require(convergence_px >= 0 && convergence_px <= 1, "IcpParams.convergence_px", convergence_px, "must be in [0, 1]");
   require(max_normal_angle_deg > 0 && max_normal_angle_deg <= 90, "IcpParams.max_normal_angle_deg",
           max_normal_angle_deg, "must be in (0, 90]");
   require(huber_m > 0, "IcpParams.huber_m", huber_m, "must be > 0");

@@ -25,6 +25,9 @@ struct IcpParams {
   // Iterations per pyramid level, finest first (KinectFusion: 10, 5, 4 coarse to fine).
   std::array<int, 3> iterations{3, 5, 10};
   int finest_stride_px = 2;           // at level 0, every stride-th measured pixel in x and y
+  // A level stops iterating once its update moves points 1 m away by less than this share of the
+  // level's pixel (rotation and translation alike).
+  float convergence_px = 0.01f;
   float max_distance_m = 0.10f;       // correspondence distance rejection
   float max_normal_angle_deg = 30.f;  // correspondence normal-angle rejection
   float huber_m = 0.02f;              // robust weight threshold on point-to-plane residuals

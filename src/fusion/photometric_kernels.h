@@ -6,6 +6,7 @@
 // model side comes from the raycast as in colour-aware KinectFusion variants.
 #include "core/image.h"
 #include "core/intrinsics.h"
+#include "fusion/fast_math.h"
 #include "fusion/icp_kernels.h"
 
 namespace vf {
@@ -47,11 +48,38 @@ struct DownsampleModelIntensityKernel {
   }
 };
 
+// The image gradient by central differences, (dI/dx, dI/dy) per pixel; NaN where a neighbour
+// has no colour or lies outside. Computed once per frame and level: the photometric term then
+// interpolates it instead of differencing four interpolated intensities at every iteration
+// (bilinear interpolation is linear, so the two agree up to rounding).
+struct IntensityGradientKernel {
+  ImageView<const float> intensity;
+  ImageView<Vec2f> gradient;
+  VF_HD void operator()(int i) const {
+    const int x = i % intensity.width, y = i / intensity.width;
+    const float nan = quietNaN();
+    if (x < 1 || y < 1 || x + 1 >= intensity.width || y + 1 >= intensity.height) {
+      gradient[i] = Vec2f{nan, nan};
+      return;
+    }
+    const float l = intensity(x - 1, y), r = intensity(x + 1, y), u = intensity(x, y - 1), d = intensity(x, y + 1);
+    gradient[i] = l < 0.f || r < 0.f || u < 0.f || d < 0.f ? Vec2f{nan, nan} : Vec2f{0.5f * (r - l), 0.5f * (d - u)};
+  }
+};
+
 VF_HD float bilinear(const ImageView<const float>& img, float u, float v) {
   const int x = int(floorf(u)), y = int(floorf(v));
   const float fx = u - float(x), fy = v - float(y);
   const float a = img(x, y), b = img(x + 1, y), c = img(x, y + 1), d = img(x + 1, y + 1);
   return (a + fx * (b - a)) + fy * ((c + fx * (d - c)) - (a + fx * (b - a)));
+}
+
+VF_HD Vec2f bilinear(const ImageView<const Vec2f>& img, float u, float v) {
+  const int x = int(floorf(u)), y = int(floorf(v));
+  const float fx = u - float(x), fy = v - float(y);
+  const Vec2f a = img(x, y), b = img(x + 1, y), c = img(x, y + 1), d = img(x + 1, y + 1);
+  auto lerp2 = [&](float p, float q, float r, float s) { return (p + fx * (q - p)) + fy * ((r + fx * (s - r)) - (p + fx * (q - p))); };
+  return {lerp2(a.x, b.x, c.x, d.x), lerp2(a.y, b.y, c.y, d.y)};
 }
 
 // One model pixel: r = I_current(project(T_cam_world * p)) - I_model, weighted into the same
@@ -61,6 +89,7 @@ struct PhotometricKernel {
   ImageView<const Vec3f> model_normal;
   ImageView<const float> model_intensity;
   ImageView<const float> intensity;     // current frame, level l
+  ImageView<const Vec2f> gradient;      // its IntensityGradientKernel
   ImageView<const float> depth;         // current frame (filtered), level l: occlusion test
   Intrinsics intrinsics;                // current camera, level l
   Rigid3f T_world_cam;                  // current estimate
@@ -87,10 +116,9 @@ struct PhotometricKernel {
     const float d = depth(int(u + 0.5f), int(v + 0.5f));
     if (d <= 0.f || fabsf(d - pc.z) > max_depth_difference_m) return false;  // occluded or unseen
     const float grey = bilinear(intensity, u, v);
-    const float gl = bilinear(intensity, u - 1.f, v), gr = bilinear(intensity, u + 1.f, v);
-    const float gu = bilinear(intensity, u, v - 1.f), gd = bilinear(intensity, u, v + 1.f);
-    if (grey < 0.f || gl < 0.f || gr < 0.f || gu < 0.f || gd < 0.f) return false;
-    const float gx = 0.5f * (gr - gl), gy = 0.5f * (gd - gu);
+    const Vec2f g = bilinear(gradient, u, v);
+    if (grey < 0.f || !(g.x == g.x && g.y == g.y)) return false;  // no colour here or at a neighbour (NaN)
+    const float gx = g.x, gy = g.y;
     const float r = grey - model_grey;
     const float inv_z = 1.f / pc.z;
     // d(grey)/d(p_cam) through the pinhole projection.

@@ -86,6 +86,9 @@ void Pipeline::measure(const RgbdFrame& frame) {
     for (int l = 1; l < kPyramidLevels; ++l)
       parallelFor(device_, b.intensity[l].size(),
                   DownsampleIntensityKernel{constView(b.intensity[l - 1]), b.intensity[l].view()});
+    for (int l = 0; l < kPyramidLevels; ++l)
+      parallelFor(device_, b.intensity[l].size(),
+                  IntensityGradientKernel{constView(b.intensity[l]), b.intensity_gradient[l].view()});
   }
   const MeasurementParams& m = params_.measurement;
   BilateralFilterKernel bilateral = BilateralFilterKernel::make(
@@ -126,7 +129,6 @@ bool Pipeline::integrate() {
     mark.min_depth_m = m.min_depth_m;
     mark.max_depth_m = m.max_depth_m;
     mark.stamp = stamp;
-    mark.entry_stamp = volume.entryStamps();
     mark.frame_entries = volume.frameEntries();
     mark.frame_count = volume.frameCount();
     mark.overflow = volume.overflowFlag();

@@ -47,6 +47,7 @@ struct Pipeline::Buffers {
   ImageBuffer<Vec3f> model_vertex[kPyramidLevels], model_normal[kPyramidLevels];  // predicted, world frame
   ImageBuffer<Rgb8> model_color;
   ImageBuffer<float> intensity[kPyramidLevels];        // current frame, grey in [0, 1]
+  ImageBuffer<Vec2f> intensity_gradient[kPyramidLevels];
   ImageBuffer<float> model_intensity[kPyramidLevels];  // prediction, -1 where uncoloured
   Buffer<float> range_min, range_max;  // per-tile ray depth bounds
 
@@ -65,6 +66,7 @@ struct Pipeline::Buffers {
       model_vertex[l].allocate(d, w >> l, h >> l);
       model_normal[l].allocate(d, w >> l, h >> l);
       intensity[l].allocate(d, w >> l, h >> l);
+      intensity_gradient[l].allocate(d, w >> l, h >> l);
       model_intensity[l].allocate(d, w >> l, h >> l);
     }
     model_color.allocate(d, w, h);

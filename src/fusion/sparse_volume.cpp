@@ -109,7 +109,7 @@ size_t SparseVolume::bytesPerBrick(bool with_classes) {
 
 size_t SparseVolume::initialDeviceBytes(bool with_classes) {
   return size_t(kInitialGpuPoolBricks) * bytesPerBrick(with_classes) +
-         size_t(kInitialHashCapacity) * (sizeof(uint64_t) + 3 * sizeof(int) + sizeof(uint32_t));
+         size_t(kInitialHashCapacity) * (sizeof(BrickEntry) + 2 * sizeof(int));
 }
 
 SparseVolume::SparseVolume(const VolumeSpec& spec, bool with_classes, Device device)
@@ -138,7 +138,7 @@ SparseVolume::SparseVolume(const VolumeSpec& spec, bool with_classes, Device dev
 SparseVolume::~SparseVolume() = default;
 
 size_t SparseVolume::bytesHeld() const {
-  const size_t hash_bytes = size_t(hash_capacity_) * (sizeof(uint64_t) + 3 * sizeof(int) + sizeof(uint32_t));
+  const size_t hash_bytes = size_t(hash_capacity_) * (sizeof(BrickEntry) + 2 * sizeof(int));
   return size_t(brick_count_) * bytesPerBrick(with_classes_) + hash_bytes;
 }
 
@@ -147,7 +147,7 @@ void SparseVolume::refreshView() {
   view_.color = static_cast<Rgb8*>(pool_->color.ptr);
   view_.class_vote = static_cast<uint32_t*>(pool_->class_vote.ptr);
   view_.brick_coords = static_cast<Vec3i*>(pool_->coords.ptr);
-  view_.hash = BrickHashView{keys_.data(), slots_.data(), hash_capacity_ - 1};
+  view_.hash = BrickHashView{entries_.data(), hash_capacity_ - 1};
   view_.voxel_size_m = spec_.voxel_size_m;
   view_.truncation_m = spec_.truncation_m;
 }
@@ -166,9 +166,7 @@ void SparseVolume::setCounter(Counter c, int value) {
 
 void SparseVolume::allocateHash(uint32_t capacity) {
   hash_capacity_ = capacity;
-  keys_.allocate(device_, capacity);
-  slots_.allocate(device_, capacity);
-  entry_stamp_.allocate(device_, capacity);
+  entries_.allocate(device_, capacity);
   frame_entries_.allocate(device_, capacity);
   frame_slots_.allocate(device_, capacity);
   refreshView();

@@ -43,7 +43,6 @@ class SparseVolume {
   // 1. beginFrame(): the hash has room for the frame (it grows between frames) and the list is empty.
   void beginFrame();
   // The per-frame lists and counters the marking kernel writes.
-  uint32_t* entryStamps() const { return entry_stamp_.data(); }
   int* frameEntries() const { return frame_entries_.data(); }
   int* frameSlots() const { return frame_slots_.data(); }
   int* frameCount() const { return counters_.data() + kFrameCount; }
@@ -79,9 +78,7 @@ class SparseVolume {
   int brick_count_ = 0;
   bool pool_full_ = false;
   uint32_t hash_capacity_ = 0;
-  Buffer<uint64_t> keys_;
-  Buffer<int> slots_;
-  Buffer<uint32_t> entry_stamp_;
+  Buffer<BrickEntry> entries_;
   Buffer<int> frame_entries_;
   Buffer<int> frame_slots_;
   Buffer<int> counters_;
