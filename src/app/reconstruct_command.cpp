@@ -80,11 +80,11 @@ void runReconstruct(const ReconstructOptions& o) {
     if (!o.trajectory.empty()) writeTumTrajectory(o.trajectory, run.trajectory());
     if (o.output.empty()) return w;
     meta.frame_count = run.framesDone() - pipeline.framesLost();
-    Scene scene = sceneFromBricks(pipeline.hostVolume(), meta);
-    w.up = setSceneFrame(scene, run.trajectory(), *source);
-    writeScene(scene, o.output);
+    // Straight from the bricks: the scene's grids in memory would take twice the bricks' memory.
+    const BrickVolumeView bricks = pipeline.hostVolume();  // one download on CUDA
+    w.up = setSceneFrame(meta, bricks, run.trajectory(), *source);
+    w.voxels = writeSceneFromBricks(bricks, meta, o.output);
     if (with_checkpoint) run.saveCheckpoint(o.checkpoint());
-    w.voxels = scene.activeVoxelCount();
     return w;
   };
 

@@ -5,11 +5,11 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
-#include <array>
 #include <cmath>
 #include <mutex>
 
 #include "core/error.h"
+#include "vdb/brick_leaves.h"
 #include "vdb/scene_grids.h"
 
 namespace vf {
@@ -49,19 +49,6 @@ size_t Scene::activeVoxelCount() const {
 
 namespace {
 
-// sRGB 8 bit -> linear (IEC 61966-2-1), by table: the conversion runs once per active voxel.
-const std::array<float, 256>& srgbToLinearTable() {
-  static const std::array<float, 256> table = [] {
-    std::array<float, 256> t{};
-    for (int i = 0; i < 256; ++i) {
-      const float c = i / 255.f;
-      t[i] = c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-    }
-    return t;
-  }();
-  return table;
-}
-
 template <class GridT>
 typename GridT::Ptr makeGrid(typename GridT::ValueType background, const char* name,
                              const openvdb::math::Transform::Ptr& xform) {
@@ -71,14 +58,23 @@ typename GridT::Ptr makeGrid(typename GridT::ValueType background, const char* n
   return grid;
 }
 
-// Leaves of one brick, built in parallel and inserted into the trees afterwards.
-struct BrickLeaves {
+// One brick's leaves, built in parallel and inserted into the trees afterwards.
+struct LeavesOfBrick {
   openvdb::FloatTree::LeafNodeType* tsdf = nullptr;
   openvdb::FloatTree::LeafNodeType* weight = nullptr;
   openvdb::Vec3STree::LeafNodeType* color = nullptr;
   openvdb::Int32Tree::LeafNodeType* class_id = nullptr;
   openvdb::FloatTree::LeafNodeType* confidence = nullptr;
 };
+
+template <class LeafT, class Fill>
+LeafT* makeLeaf(const openvdb::Coord& origin, const LeafMask& mask, typename LeafT::ValueType background,
+                const Fill& fill) {
+  auto* leaf = new LeafT(origin, background, false);
+  fill(leaf->buffer().data());
+  leaf->setValueMask(mask);
+  return leaf;
+}
 
 }  // namespace
 
@@ -104,64 +100,39 @@ Scene sceneFromBricks(const BrickVolumeView& v, const SceneMetadata& meta) {
     g.class_confidence = makeGrid<openvdb::FloatGrid>(0.f, kClassConfidenceGridName, xform);
   }
 
-  std::vector<BrickLeaves> leaves(v.brick_count);
-  const auto& lin = srgbToLinearTable();
-  const float sdf_scale = trunc / kTsdfScale;
-
+  std::vector<LeavesOfBrick> leaves(v.brick_count);
+  const BrickLeaves source(v);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, v.brick_count, 64), [&](const auto& range) {
+    LeafMask mask;
     for (size_t n = range.begin(); n != range.end(); ++n) {
-      const size_t base = n * kBrickVoxels;
-      // Skip bricks that were touched but where no voxel got weight (e.g. carved free space).
-      bool any = false;
-      for (int i = 0; i < kBrickVoxels && !any; ++i) any = v.tsdf[base + i].weight > 0;
-      if (!any) continue;
-      const Vec3i b = v.coords[n];
-      const openvdb::Coord origin(b.x * kBrickSize, b.y * kBrickSize, b.z * kBrickSize);
-      BrickLeaves& out = leaves[n];
-      out.tsdf = new openvdb::FloatTree::LeafNodeType(origin, trunc, false);
-      out.weight = new openvdb::FloatTree::LeafNodeType(origin, 0.f, false);
-      out.color = new openvdb::Vec3STree::LeafNodeType(origin, openvdb::Vec3s(0.f), false);
-      if (with_classes) {
-        out.class_id = new openvdb::Int32Tree::LeafNodeType(origin, kSceneUnknownClass, false);
-        out.confidence = new openvdb::FloatTree::LeafNodeType(origin, 0.f, false);
-      }
-      // Brick order is (z, y, x) with x fastest (core/brick_volume.h); OpenVDB leaves store x slowest.
-      for (int i = 0; i < kBrickVoxels; ++i) {
-        const TsdfVoxel tw = v.tsdf[base + i];
-        const uint16_t w = tw.weight;
-        if (w == 0) continue;
-        const Vec3i local = localVoxelOffset(i);
-        const openvdb::Index o = openvdb::Index((local.x << 6) | (local.y << 3) | local.z);
-        out.tsdf->setValueOn(o, tw.tsdf * sdf_scale);
-        out.weight->setValueOn(o, float(w));
-        const Rgb8 c = v.color[base + i];
-        out.color->setValueOn(o, openvdb::Vec3s(lin[c.r], lin[c.g], lin[c.b]));
-        if (with_classes) {
-          const uint32_t vote = v.class_vote[base + i];
-          const uint32_t id = voteClass(vote);
-          // Confidence 0 means no label ever voted here (the zero-initialised vote), not class 0.
-          const bool voted = voteConfidence(vote) > 0 && id != kUnknownClass;
-          out.class_id->setValueOn(o, voted ? int32_t(id) : kSceneUnknownClass);
-          out.confidence->setValueOn(o, float(voteConfidence(vote)));
-        }
-      }
+      if (!source.activeMask(n, mask)) continue;
+      const openvdb::Coord origin = source.origin(n);
+      LeavesOfBrick& out = leaves[n];
+      using FloatLeaf = openvdb::FloatTree::LeafNodeType;
+      out.tsdf = makeLeaf<FloatLeaf>(origin, mask, trunc, [&](float* d) { source.tsdf(n, trunc, d); });
+      out.weight = makeLeaf<FloatLeaf>(origin, mask, 0.f, [&](float* d) { source.weight(n, d); });
+      out.color = makeLeaf<openvdb::Vec3STree::LeafNodeType>(origin, mask, openvdb::Vec3s(0.f),
+                                                             [&](openvdb::Vec3s* d) { source.color(n, d); });
+      if (!with_classes) continue;
+      out.class_id = makeLeaf<openvdb::Int32Tree::LeafNodeType>(origin, mask, kSceneUnknownClass,
+                                                                [&](int32_t* d) { source.classId(n, d); });
+      out.confidence = makeLeaf<FloatLeaf>(origin, mask, 0.f, [&](float* d) { source.classConfidence(n, d); });
     }
   });
 
   // Insert the leaves, one grid per task (the trees are independent).
   auto insert = [&](auto& grid, auto member) {
+    if (!grid) return;
     auto& tree = grid->tree();
-    for (BrickLeaves& l : leaves)
+    for (LeavesOfBrick& l : leaves)
       if (l.*member) tree.addLeaf(l.*member);
   };
-  tbb::parallel_invoke([&] { insert(g.tsdf, &BrickLeaves::tsdf); },
-                       [&] { insert(g.weight, &BrickLeaves::weight); },
-                       [&] { insert(g.color, &BrickLeaves::color); },
+  tbb::parallel_invoke([&] { insert(g.tsdf, &LeavesOfBrick::tsdf); },
+                       [&] { insert(g.weight, &LeavesOfBrick::weight); },
+                       [&] { insert(g.color, &LeavesOfBrick::color); },
                        [&] {
-                         if (with_classes) {
-                           insert(g.class_id, &BrickLeaves::class_id);
-                           insert(g.class_confidence, &BrickLeaves::confidence);
-                         }
+                         insert(g.class_id, &LeavesOfBrick::class_id);
+                         insert(g.class_confidence, &LeavesOfBrick::confidence);
                        });
   return scene;
 }

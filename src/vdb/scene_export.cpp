@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "vdb/scene_grids.h"
+#include "vdb/surface_point.h"
 
 namespace vf {
 
@@ -73,24 +74,14 @@ TriangleMesh scenePointCloud(const Scene& scene, const MeshOptions& options) {
     const openvdb::Coord ijk = it.getCoord();
     const float v = *it;
     if (options.min_weight > 0 && weight.getValue(ijk) < options.min_weight) continue;
-    bool crossing = false;
-    openvdb::Vec3d grad(0.0);
-    for (int a = 0; a < 3; ++a) {
-      openvdb::Coord lo = ijk, hi = ijk;
-      lo[a] -= 1;
-      hi[a] += 1;
-      float vl, vh;
-      const bool ol = observed(lo, vl), oh = observed(hi, vh);
-      for (int s = 0; s < 2; ++s) {
-        const bool o = s ? oh : ol;
-        const float n = s ? vh : vl;
-        if (o && (n < 0) != (v < 0) && std::fabs(v) <= std::fabs(n)) crossing = true;
-      }
-      grad[a] = ol && oh ? (vh - vl) / (2 * voxel) : oh ? (vh - v) / voxel : ol ? (v - vl) / voxel : 0.0;
-    }
-    if (!crossing) continue;
-    const double len = grad.length();
-    const openvdb::Vec3d nrm = len > 0 ? grad / len : openvdb::Vec3d(0, 0, 1);
+    std::array<double, 3> n;
+    const bool on_surface = surfaceSample(v, voxel, [&](int axis, int side, float& value) {
+      openvdb::Coord c = ijk;
+      c[axis] += side;
+      return observed(c, value);
+    }, n);
+    if (!on_surface) continue;
+    const openvdb::Vec3d nrm(n[0], n[1], n[2]);
     const openvdb::Vec3d p = xform.indexToWorld(ijk) - nrm * double(v);
     cloud.positions.push_back({float(p.x()), float(p.y()), float(p.z())});
     cloud.normals.push_back({float(nrm.x()), float(nrm.y()), float(nrm.z())});

@@ -5,9 +5,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <map>
 
 #include "core/error.h"
+#include "vdb/brick_surface.h"
 #include "vdb/scene_export.h"
 
 namespace vf {
@@ -182,33 +184,47 @@ SceneUp estimateSceneUp(const Trajectory& traj, const TriangleMesh& surface, con
 
 namespace {
 
-SceneUp setFrame(Scene& scene, const Trajectory& trajectory, const std::optional<Vec3f>& recorded) {
-  SceneUp up;
-  if (recorded) {
-    up = estimateSceneUp(trajectory, TriangleMesh{}, recorded);
-  } else {
-    up = estimateSceneUp(trajectory, scenePointCloud(scene), std::nullopt);
-  }
-  scene.meta.up_world = up.up;
-  scene.meta.forward_world = up.forward;
-  scene.meta.up_source = up.source;
+// One sample in this many is plenty to find a floor (2 % of the samples must lie on it) and
+// keeps a room's samples to tens of megabytes.
+constexpr int kUpSamplesKeepOneIn = 4;
+
+SceneUp setFrame(SceneMetadata& meta, const Trajectory& trajectory, const std::optional<Vec3f>& recorded,
+                 const std::function<TriangleMesh()>& surface) {
+  const SceneUp up = recorded ? estimateSceneUp(trajectory, TriangleMesh{}, recorded)
+                              : estimateSceneUp(trajectory, surface(), std::nullopt);
+  meta.up_world = up.up;
+  meta.forward_world = up.forward;
+  meta.up_source = up.source;
   return up;
+}
+
+// The recorded world's up in the fused frame, when the source knows gravity.
+std::optional<Vec3f> recordedUp(const Trajectory& trajectory, const FrameSource& source) {
+  if (const std::optional<Vec3f> world_up = source.worldUp(); world_up && !trajectory.empty() && source.size() > 0) {
+    const RgbdFrame first = source.load(0);
+    if (first.T_world_cam_given)
+      return recordedUpInFusedFrame(*world_up, *first.T_world_cam_given, trajectory.front().T_world_cam);
+  }
+  return std::nullopt;
 }
 
 }  // namespace
 
 SceneUp setSceneFrame(Scene& scene, const Trajectory& trajectory, const FrameSource& source) {
   scene.meta.depth_intrinsics = source.depthIntrinsics();
-  std::optional<Vec3f> recorded;
-  if (const std::optional<Vec3f> world_up = source.worldUp(); world_up && !trajectory.empty() && source.size() > 0) {
-    const RgbdFrame first = source.load(0);
-    if (first.T_world_cam_given)
-      recorded = recordedUpInFusedFrame(*world_up, *first.T_world_cam_given, trajectory.front().T_world_cam);
-  }
-  return setFrame(scene, trajectory, recorded);
+  return setFrame(scene.meta, trajectory, recordedUp(trajectory, source), [&] { return scenePointCloud(scene); });
 }
 
-SceneUp setSceneFrame(Scene& scene, const Trajectory& trajectory) { return setFrame(scene, trajectory, std::nullopt); }
+SceneUp setSceneFrame(SceneMetadata& meta, const BrickVolumeView& bricks, const Trajectory& trajectory,
+                      const FrameSource& source) {
+  meta.depth_intrinsics = source.depthIntrinsics();
+  return setFrame(meta, trajectory, recordedUp(trajectory, source),
+                  [&] { return brickSurfaceSamples(bricks, kUpSamplesKeepOneIn); });
+}
+
+SceneUp setSceneFrame(Scene& scene, const Trajectory& trajectory) {
+  return setFrame(scene.meta, trajectory, std::nullopt, [&] { return scenePointCloud(scene); });
+}
 
 SceneAxes parseSceneAxes(const std::string& text) {
   if (text == "camera") return SceneAxes::kCamera;

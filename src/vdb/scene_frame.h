@@ -47,6 +47,10 @@ SceneUp estimateSceneUp(const Trajectory& T_world_cam, const TriangleMesh& surfa
 // For reconstruct: records the source's depth camera and the scene's up (estimateSceneUp on
 // the scene's surface points; the source's worldUp() when it has one) in scene.meta.
 SceneUp setSceneFrame(Scene& scene, const Trajectory& trajectory, const FrameSource& source);
+// The same from the fused bricks, into `meta`, without the scene's grids (a room's would take
+// more memory than its bricks): the surface is a hash-picked quarter of brickSurfaceSamples.
+SceneUp setSceneFrame(SceneMetadata& meta, const BrickVolumeView& bricks, const Trajectory& trajectory,
+                      const FrameSource& source);
 // The same without a source (export of a scene written before up was recorded).
 SceneUp setSceneFrame(Scene& scene, const Trajectory& trajectory);
 

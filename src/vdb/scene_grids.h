@@ -2,6 +2,8 @@
 // The OpenVDB side of a Scene. Only src/vdb/*.cpp include this (OpenVDB templates compile slowly).
 #include <openvdb/openvdb.h>
 
+#include <string>
+
 #include "core/math.h"
 #include "vdb/openvdb_init.h"
 #include "vdb/scene.h"
@@ -27,6 +29,9 @@ size_t removeMaskedVoxels(SceneGrids& grids, const openvdb::MaskGrid& mask);
 // and vf::Error says "PATH: cannot write WHAT: why".
 void writeVdbFileAtomic(const std::string& path, const openvdb::GridPtrVec& grids, const openvdb::MetaMap& meta,
                         const std::string& what);
+
+// The file-level metadata of a scene (voxel size, classes, source, up, camera...).
+openvdb::MetaMap sceneFileMetadata(const SceneMetadata& meta);
 
 // The scene's voxel-to-world transform: index (i,j,k) sits at (i+0.5, j+0.5, k+0.5) * voxel in the
 // fusion world frame (cell centred, as core/brick_volume.h).

@@ -112,6 +112,19 @@ typename GridT::Ptr findGrid(const openvdb::GridPtrVec& grids, const char* name,
 
 }  // namespace
 
+openvdb::MetaMap sceneFileMetadata(const SceneMetadata& m) {
+  openvdb::MetaMap meta;
+  meta.insertMeta(kMetaVoxelSize, openvdb::FloatMetadata(m.voxel_size_m));
+  meta.insertMeta(kMetaTruncation, openvdb::FloatMetadata(m.truncation_m));
+  meta.insertMeta(kMetaClasses, openvdb::StringMetadata(classesToJson(m.classes)));
+  meta.insertMeta(kMetaSource, openvdb::StringMetadata(m.source));
+  meta.insertMeta(kMetaFrameCount, openvdb::Int32Metadata(m.frame_count));
+  meta.insertMeta(kMetaVersion, openvdb::StringMetadata(m.software_version.empty() ? std::string(VDBFUSE_VERSION_STRING)
+                                                                                   : m.software_version));
+  writeFrameMeta(m, meta);
+  return meta;
+}
+
 void writeScene(const Scene& scene, const std::string& path) {
   ensureOpenVdbInitialized();
   const SceneGrids& g = scene.grids();
@@ -121,19 +134,7 @@ void writeScene(const Scene& scene, const std::string& path) {
        {openvdb::GridBase::Ptr(g.tsdf), openvdb::GridBase::Ptr(g.weight), openvdb::GridBase::Ptr(g.color),
         openvdb::GridBase::Ptr(g.class_id), openvdb::GridBase::Ptr(g.class_confidence)})
     if (grid) grids.push_back(grid);
-
-  openvdb::MetaMap meta;
-  meta.insertMeta(kMetaVoxelSize, openvdb::FloatMetadata(scene.meta.voxel_size_m));
-  meta.insertMeta(kMetaTruncation, openvdb::FloatMetadata(scene.meta.truncation_m));
-  meta.insertMeta(kMetaClasses, openvdb::StringMetadata(classesToJson(scene.meta.classes)));
-  meta.insertMeta(kMetaSource, openvdb::StringMetadata(scene.meta.source));
-  meta.insertMeta(kMetaFrameCount, openvdb::Int32Metadata(scene.meta.frame_count));
-  meta.insertMeta(kMetaVersion, openvdb::StringMetadata(scene.meta.software_version.empty()
-                                                            ? std::string(VDBFUSE_VERSION_STRING)
-                                                            : scene.meta.software_version));
-  writeFrameMeta(scene.meta, meta);
-
-  writeVdbFileAtomic(path, grids, meta, "scene");
+  writeVdbFileAtomic(path, grids, sceneFileMetadata(scene.meta), "scene");
 }
 
 void writeVdbFileAtomic(const std::string& path, const openvdb::GridPtrVec& grids, const openvdb::MetaMap& meta,

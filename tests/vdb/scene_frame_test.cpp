@@ -3,6 +3,7 @@
 // export rotations, and the metadata that records them.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.h"
@@ -11,6 +12,7 @@
 #include "io/tum_dataset.h"
 #include "synthetic_scene.h"
 #include "test_data.h"
+#include "vdb/brick_surface.h"
 #include "vdb/scene.h"
 #include "vdb/scene_export.h"
 #include "vdb/scene_frame.h"
@@ -59,6 +61,35 @@ TEST(SceneUp, FloorPlaneBelowPitchedCamerasGivesUp) {
     EXPECT_LT(angleDeg(up.forward, {std::sin(float(-4.5 * 0.03)), 0, std::cos(float(-4.5 * 0.03))}), 1.0);
     EXPECT_EQ(scene.meta.up_source, kUpFromFloorPlane);
   }
+}
+
+bool lessPoint(const Vec3f& a, const Vec3f& b) {
+  return a.x != b.x ? a.x < b.x : a.y != b.y ? a.y < b.y : a.z < b.z;
+}
+
+TEST(SurfaceSamples, FromBricksAreTheScenePointCloudsPointsAndAQuarterOfThemOnRequest) {
+  test::SyntheticVolume volume(test::sphereSpec(96, 0.02f), false);
+  test::fillSdf(volume, [&](Vec3f p) { return std::min(0.3f - p.y, norm(p - Vec3f{0.2f, 0.f, 0.1f}) - 0.4f); }, 0.f);
+  const TriangleMesh grid = scenePointCloud(sceneFromBricks(volume.view(), {}));
+  const TriangleMesh bricks = brickSurfaceSamples(volume.view());
+  ASSERT_GT(grid.positions.size(), 5000u);
+  ASSERT_EQ(bricks.positions.size(), grid.positions.size());
+  ASSERT_EQ(bricks.normals.size(), bricks.positions.size());
+  // Same points (each with its normal), in another order.
+  auto sorted = [](const TriangleMesh& m) {
+    std::vector<std::pair<Vec3f, Vec3f>> p;
+    for (size_t i = 0; i < m.positions.size(); ++i) p.push_back({m.positions[i], m.normals[i]});
+    std::sort(p.begin(), p.end(), [](const auto& a, const auto& b) { return lessPoint(a.first, b.first); });
+    return p;
+  };
+  const auto a = sorted(grid), b = sorted(bricks);
+  size_t differing = 0;
+  for (size_t i = 0; i < a.size(); ++i)
+    differing += lessPoint(a[i].first, b[i].first) || lessPoint(b[i].first, a[i].first) ||
+                 norm(a[i].second - b[i].second) > 1e-6f;
+  EXPECT_EQ(differing, 0u);
+  const size_t quarter = brickSurfaceSamples(volume.view(), 4).positions.size();
+  EXPECT_NEAR(double(quarter), a.size() / 4.0, a.size() * 0.02);
 }
 
 TEST(SceneUp, WithoutAFloorTheCamerasMeanUpIsUsed) {
@@ -140,7 +171,20 @@ TEST(SceneMetadataIo, UpAndCameraRoundTripAndBadValuesAreRefused) {
 struct Fused {
   Scene scene;
   Trajectory trajectory;
+  HostBrickVolume bricks;  // a copy of the pipeline's
 };
+
+HostBrickVolume copyBricks(const BrickVolumeView& v) {
+  HostBrickVolume h;
+  h.voxel_size_m = v.voxel_size_m;
+  h.truncation_m = v.truncation_m;
+  h.with_classes = v.hasClasses();
+  h.coords.assign(v.coords, v.coords + v.brick_count);
+  h.tsdf.assign(v.tsdf, v.tsdf + v.brick_count * kBrickVoxels);
+  h.color.assign(v.color, v.color + v.brick_count * kBrickVoxels);
+  if (h.with_classes) h.class_vote.assign(v.class_vote, v.class_vote + v.brick_count * kBrickVoxels);
+  return h;
+}
 
 Fused fuse(const FrameSource& source, int frames, PoseSource poses) {
   PipelineParams params;
@@ -151,7 +195,8 @@ Fused fuse(const FrameSource& source, int frames, PoseSource poses) {
     const RgbdFrame frame = source.load(i);
     out.trajectory.push_back({frame.timestamp, pipeline.processFrame(frame, poses).T_world_cam});
   }
-  out.scene = sceneFromBricks(pipeline.hostVolume(), {});
+  out.bricks = copyBricks(pipeline.hostVolume());
+  out.scene = sceneFromBricks(out.bricks.view(), {});
   return out;
 }
 
@@ -173,6 +218,13 @@ TEST(SceneUpOnRealData, TumIcpSceneFindsTheMotionCaptureUp) {
                 up.detail.c_str(), angleDeg(up.up, truth));
     EXPECT_EQ(up.source, kUpFromFloorPlane) << name;
     EXPECT_LT(angleDeg(up.up, truth), 10.0) << name;
+    // reconstruct's way, from a quarter of the bricks' surface samples: the same floor.
+    SceneMetadata meta;
+    const SceneUp from_bricks = setSceneFrame(meta, f.bricks.view(), f.trajectory, tum);
+    EXPECT_EQ(from_bricks.source, kUpFromFloorPlane) << from_bricks.detail;
+    EXPECT_LT(angleDeg(from_bricks.up, up.up), 1.0);
+    EXPECT_EQ(meta.up_source, kUpFromFloorPlane);
+    EXPECT_TRUE(meta.depth_intrinsics.valid());
   }
 }
 
