@@ -12,7 +12,7 @@ $SUDO apt-get install -y -qq --no-install-recommends \
   libpng-dev libjpeg62-turbo-dev zlib1g-dev \
   libvtk9-dev xvfb xauth \
   libgtest-dev libbenchmark-dev \
-  blender python3-numpy
+  blender python3-numpy time bc
 # blender (3.4 on Debian 12): tests/vdb/blender_test.cpp imports, renders and judges the exports
 # headless (it skips, saying so, where blender is missing). python3-numpy: Blender's glTF
 # importer and samples/blender/judge_scene.py need it, and Debian's blender does not pull it in.
