@@ -1,8 +1,5 @@
 #include "io/labeled_source.h"
 
-#include <algorithm>
-#include <sstream>
-
 #include "core/error.h"
 
 namespace vf {
@@ -11,44 +8,6 @@ MissingLabels parseMissingLabels(const std::string& text) {
   if (text == "skip") return MissingLabels::Skip;
   if (text == "error") return MissingLabels::Error;
   throw Error("--labels-missing " + text + ": expected skip or error");
-}
-
-namespace {
-
-std::string validNames(const ClassTable& table) {
-  std::string names;
-  for (const ClassInfo& c : table.classes) {
-    if (!names.empty()) names += ", ";
-    names += c.name + " (" + std::to_string(c.id) + ")";
-  }
-  return names.empty() ? "none: the class table is empty" : names;
-}
-
-bool parseId(const std::string& s, int& id) {
-  if (s.empty() || s.size() > 6 || !std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; }))
-    return false;
-  id = std::stoi(s);
-  return true;
-}
-
-}  // namespace
-
-std::vector<int> resolveClassList(const ClassTable& table, const std::string& list, const std::string& option) {
-  std::vector<int> ids;
-  std::stringstream ss(list);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    item.erase(0, item.find_first_not_of(" \t"));
-    item.erase(item.find_last_not_of(" \t") + 1);
-    if (item.empty()) continue;
-    int id = -1;
-    const ClassInfo* c = table.findName(item);
-    if (!c && parseId(item, id)) c = table.findId(id);
-    if (!c) throw Error(option + " " + list + ": unknown class '" + item + "'; valid: " + validNames(table));
-    if (std::find(ids.begin(), ids.end(), c->id) == ids.end()) ids.push_back(c->id);
-  }
-  if (ids.empty()) throw Error(option + " '" + list + "': no class given; valid: " + validNames(table));
-  return ids;
 }
 
 LabeledFrameSource::LabeledFrameSource(std::unique_ptr<FrameSource> inner, const std::string& folder,

@@ -26,10 +26,6 @@ enum class MissingLabels {
 // Parses "skip" / "error"; throws vf::Error otherwise.
 MissingLabels parseMissingLabels(const std::string& text);
 
-// Resolves a comma-separated list of class names or numeric ids ("person", "person,12") against
-// the table. Throws vf::Error naming `option` and listing the valid names for an unknown entry.
-std::vector<int> resolveClassList(const ClassTable& table, const std::string& list, const std::string& option);
-
 // What the label maps held, for the summary after fusion.
 struct LabelStats {
   int frames_labelled = 0;

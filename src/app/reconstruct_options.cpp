@@ -130,7 +130,7 @@ ReconstructionOptions fusionOptions(const ReconstructOptions& o, const LabeledFr
   r.max_frames = o.max_frames;
   r.with_classes = labeled != nullptr;
   if (labeled && !o.dynamic_classes.empty())
-    r.dynamic_class_ids = resolveClassList(labeled->classes(), o.dynamic_classes, "--dynamic-classes");
+    r.dynamic_class_ids = labeled->classes().resolve({o.dynamic_classes}, "--dynamic-classes");
   return r;
 }
 

@@ -28,6 +28,14 @@ struct ClassTable {
     return nullptr;
   }
   bool empty() const { return classes.empty(); }
+
+  // The ids of the classes named in `items`: each is a class name or a numeric id, and
+  // comma-separated lists are split (blanks trimmed). Ids come in the order first named, each
+  // once. Throws vf::Error starting with `what` for an unknown name or id, or when no class is
+  // given, listing the valid ones.
+  std::vector<int> resolve(const std::vector<std::string>& items, const std::string& what) const;
+  // "person (1), chair (2)", or a note that the table is empty: for messages.
+  std::string listing() const;
 };
 
 }  // namespace vf

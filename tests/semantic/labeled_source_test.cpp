@@ -138,17 +138,23 @@ TEST(LabeledSource, IdsMissingFromTheClassTableBecomeUnknownAndAreCounted) {
 
 TEST(ClassList, NamesAndIdsResolveAndUnknownNamesListTheValidOnes) {
   const ClassTable t = personTable();
-  EXPECT_EQ(resolveClassList(t, "person", "--dynamic-classes"), std::vector<int>({1}));
-  EXPECT_EQ(resolveClassList(t, "person, 0,1", "--dynamic-classes"), std::vector<int>({1, 0}));
+  EXPECT_EQ(t.resolve({"person"}, "--dynamic-classes"), std::vector<int>({1}));
+  EXPECT_EQ(t.resolve({"person, 0,1"}, "--dynamic-classes"), std::vector<int>({1, 0}));
+  EXPECT_EQ(t.resolve({"0", " person ", "background"}, "--exclude-classes"), std::vector<int>({0, 1}));
   try {
-    resolveClassList(t, "persn", "--dynamic-classes");
+    t.resolve({"persn"}, "--dynamic-classes");
     FAIL();
   } catch (const Error& e) {
     const std::string m = e.what();
+    EXPECT_NE(m.find("--dynamic-classes"), std::string::npos) << m;
     EXPECT_NE(m.find("'persn'"), std::string::npos) << m;
     EXPECT_NE(m.find("background (0), person (1)"), std::string::npos) << m;
   }
-  EXPECT_THROW(resolveClassList(t, "5", "--dynamic-classes"), Error);
+  EXPECT_THROW(t.resolve({"5"}, "--dynamic-classes"), Error);
+  // Not an id: trailing text, a number past int's range (once std::out_of_range, exit 2).
+  EXPECT_THROW(t.resolve({"1x"}, "--dynamic-classes"), Error);
+  EXPECT_THROW(t.resolve({"99999999999999999999"}, "--dynamic-classes"), Error);
+  EXPECT_THROW(t.resolve({" , "}, "--dynamic-classes"), Error);
   EXPECT_THROW(parseMissingLabels("ignore"), Error);
 }
 
