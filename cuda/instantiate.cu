@@ -29,6 +29,7 @@ VF_CUDA_FOR(VertexMapKernel)
 VF_CUDA_FOR(NormalMapKernel)
 VF_CUDA_FOR(IntensityKernel)
 VF_CUDA_FOR(DownsampleIntensityKernel)
+VF_CUDA_FOR(DownsampleColorKernel)
 VF_CUDA_FOR(IntensityGradientKernel)
 // track (icp_kernels.h, photometric_kernels.h)
 template void parallelReduce<normal_row::kSize, IcpKernel>(int, const IcpKernel&, double*);

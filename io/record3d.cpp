@@ -301,8 +301,9 @@ RgbdFrame Record3dCapture::load(int index) const {
                       options_.min_confidence, options_.depth_units_per_metre);
   if (options_.load_color) {
     const std::string entry = colorEntry(index);
-    frame.color = decodeColorAtResolution(zip_->read(entry, 256 << 20), w, h,
-                                          path_ + ": entry '" + entry + "'");
+    int cw = 0, ch = 0;
+    record3dColorSize(meta_, w, h, cw, ch);
+    frame.color = decodeColorAtResolution(zip_->read(entry, 256 << 20), cw, ch, path_ + ": entry '" + entry + "'");
   }
   if (size_t(index) < meta_.T_world_cam.size()) frame.T_world_cam_given = meta_.T_world_cam[index];
   return frame;

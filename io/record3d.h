@@ -52,6 +52,15 @@ Intrinsics scaleRecord3dIntrinsics(const Record3dMetadata& meta, int width, int 
 // Timestamp of frame `index`: frameTimestamps[index] when present, else index / fps.
 double record3dTimestamp(const Record3dMetadata& meta, int index);
 
+// The size colour is decoded and fused at: the capture's own RGB size (metadata w x h, 720x960
+// on an iPhone: fusion samples it per voxel, so text and book spines stay sharp), or the depth
+// size when the metadata states a smaller one.
+inline void record3dColorSize(const Record3dMetadata& m, int depth_width, int depth_height, int& width, int& height) {
+  const bool larger = m.rgb_width >= depth_width && m.rgb_height >= depth_height;
+  width = larger ? m.rgb_width : depth_width;
+  height = larger ? m.rgb_height : depth_height;
+}
+
 // Decodes a JPEG/PNG (bytes) and area-averages it to width x height. The RGB and depth images of
 // a capture cover the same field of view (same optical centre once K is scaled), so each depth
 // pixel gets the mean colour of the RGB pixels it covers. `what` names the file in errors.

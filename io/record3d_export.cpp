@@ -119,7 +119,9 @@ RgbdFrame Record3dExport::load(int index) const {
   if (options_.load_color) {
     const std::string path = colorPath(index);
     if (!fs::exists(path)) throw Error(path + ": colour image missing");
-    frame.color = decodeColorAtResolution(readBytes(path), w, h, path);
+    int cw = 0, ch = 0;
+    record3dColorSize(meta_, w, h, cw, ch);
+    frame.color = decodeColorAtResolution(readBytes(path), cw, ch, path);
   }
   if (size_t(index) < meta_.T_world_cam.size()) frame.T_world_cam_given = meta_.T_world_cam[index];
   return frame;

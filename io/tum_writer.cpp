@@ -14,6 +14,7 @@
 
 #include "core/atomic_output.h"
 #include "core/error.h"
+#include "io/frame_list_source.h"
 #include "io/image_io.h"
 
 namespace vf {
@@ -84,7 +85,10 @@ TumWriteResult writeTumFolder(const FrameSource& source, const std::string& fold
     const std::string stem = tumTimestampString(frame.timestamp);
     writePng(dir / "depth" / (stem + ".png"), depthToPng(frame.depth));
     if (!frame.color.empty()) {
-      writeColorPng((dir / "rgb" / (stem + ".png")).string(), frame.color);
+      // TUM pairs colour and depth pixel for pixel: a larger colour image (iPhone) is averaged
+      // down to the depth size.
+      writeColorPng((dir / "rgb" / (stem + ".png")).string(),
+                    resizeColorArea(frame.color, frame.depth.width(), frame.depth.height()));
       r.has_color = true;
     }
     if (options.progress) {

@@ -32,7 +32,9 @@ ColorImage composeRenderPanel(const RgbdFrame& frame, const Prediction& predicti
   const ColorImage shaded = shadePrediction(prediction, T_world_cam);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
-      if (!frame.color.empty()) panel(x, y) = frame.color(x, y);
+      // The input colour may be larger than the depth (iPhone): its pixel at the same place.
+      if (!frame.color.empty())
+        panel(x, y) = frame.color(x * frame.color.width() / w, y * frame.color.height() / h);
       if (!prediction.color.empty()) panel(w + x, y) = prediction.color(x, y);
       panel(2 * w + x, y) = shaded(x, y);
     }

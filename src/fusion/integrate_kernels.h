@@ -142,7 +142,8 @@ struct IntegrateKernel {
   VolumeView volume;
   const int* slots;  // the bricks this frame touched (AssignSlotsKernel); -1 = not in the pool
   ImageView<const float> depth;
-  ImageView<const Rgb8> color;        // data may be null
+  ImageView<const Rgb8> color;        // data may be null; the depth's size or a larger image of the same view
+  float color_scale_x = 1.f, color_scale_y = 1.f;  // colour pixels per depth pixel
   ImageView<const uint16_t> labels;   // data may be null
   ImageView<const uint8_t> static_mask;  // data may be null; 0 = dynamic pixel: vote, do not fuse
   Intrinsics intrinsics;
@@ -174,6 +175,14 @@ struct IntegrateKernel {
       updateVoxel(first_index + k, voxel_id_base | uint64_t(row * kBrickSize + k), p0 + step * float(k));
   }
 
+  // The colour pixel that depth position (u, v) (>= -0.5) falls in; the depth pixel itself when
+  // the images have one size.
+  VF_HD int colorPixel(float u, float v) const {
+    const int x = clampInt(int((u + 0.5f) * color_scale_x), 0, color.width - 1);
+    const int y = clampInt(int((v + 0.5f) * color_scale_y), 0, color.height - 1);
+    return y * color.width + x;
+  }
+
   // Eq. (11)-(12) for one voxel whose centre is p in camera coordinates.
   VF_HD void updateVoxel(int64_t index, uint64_t voxel_id, Vec3f p) const {
     if (p.z <= 0.f) return;
@@ -200,7 +209,7 @@ struct IntegrateKernel {
       if (vox.weight < max_weight) vox.weight = uint16_t(vox.weight + 1);
       if (color.data && near_surface) {
         Rgb8& rgb = volume.color[index];
-        const Rgb8 in = color[pixel];
+        const Rgb8 in = color[colorPixel(u, v)];
         // The alpha byte counts color observations so color averages only over frames that
         // actually saw the voxel near the surface.
         const float cw = float(rgb.a);

@@ -124,4 +124,31 @@ struct NormalMapKernel {
   }
 };
 
+// A larger colour image of the same view averaged down to the depth size by area: each depth
+// pixel takes the mean of the colour it covers, partly covered colour pixels weighted by their
+// share (OpenCV's INTER_AREA, which the readers used before colour was fused at full size).
+struct DownsampleColorKernel {
+  ImageView<const Rgb8> full;
+  ImageView<Rgb8> out;
+  VF_HD void operator()(int i) const {
+    const int x = i % out.width, y = i / out.width;
+    const float sx = float(full.width) / float(out.width), sy = float(full.height) / float(out.height);
+    const float ax = float(x) * sx, bx = ax + sx, ay = float(y) * sy, by = ay + sy;
+    float r = 0.f, g = 0.f, b = 0.f;
+    for (int yy = int(ay); yy < full.height && float(yy) < by; ++yy) {
+      const float wy = fminf(float(yy + 1), by) - fmaxf(float(yy), ay);
+      for (int xx = int(ax); xx < full.width && float(xx) < bx; ++xx) {
+        const float w = wy * (fminf(float(xx + 1), bx) - fmaxf(float(xx), ax));
+        const Rgb8 c = full(xx, yy);
+        r += w * float(c.r);
+        g += w * float(c.g);
+        b += w * float(c.b);
+      }
+    }
+    const float inv_area = 1.f / (sx * sy);
+    auto byte = [](float v) { return uint8_t(clampFloat(rintf(v), 0.f, 255.f)); };
+    out[i] = Rgb8{byte(r * inv_area), byte(g * inv_area), byte(b * inv_area), 255};
+  }
+};
+
 }  // namespace vf

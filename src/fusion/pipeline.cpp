@@ -64,9 +64,22 @@ void Pipeline::measure(const RgbdFrame& frame) {
   b.raw_depth.buffer.upload(frame.depth.data(), size_t(w) * h);
   has_color_ = !frame.color.empty();
   if (has_color_) {
-    if (frame.color.width() != w || frame.color.height() != h)
-      throw Error("frame " + frame.name + ": color size differs from depth size");
-    b.color.buffer.upload(frame.color.data(), size_t(w) * h);
+    const int cw = frame.color.width(), ch = frame.color.height();
+    color_full_ = cw != w || ch != h;
+    if (!color_full_) {
+      b.color.buffer.upload(frame.color.data(), size_t(w) * h);
+    } else {
+      // A larger image of the same camera (Record3D: the RGB camera, depth scaled down from it):
+      // fused at its own resolution, averaged down to the depth size for everything else.
+      const double sx = double(cw) / w, sy = double(ch) / h;
+      if (cw < w || ch < h || std::fabs(sx - sy) > 0.02 * sx)
+        throw Error("frame " + frame.name + ": colour is " + std::to_string(cw) + "x" + std::to_string(ch) +
+                    " and depth " + std::to_string(w) + "x" + std::to_string(h) +
+                    ": colour must have the depth's size, or be a larger image of the same view");
+      if (b.color_full.width != cw || b.color_full.height != ch) b.color_full.allocate(device_, cw, ch);
+      b.color_full.buffer.upload(frame.color.data(), size_t(cw) * ch);
+      parallelFor(device_, w * h, DownsampleColorKernel{constView(b.color_full), b.color.view()});
+    }
   }
   has_labels_ = !frame.labels.empty();
   ImageView<const float> depth_for_geometry = constView(b.raw_depth);
@@ -140,7 +153,11 @@ bool Pipeline::integrate() {
   kernel.volume = volume.view();
   kernel.slots = volume.frameSlots();
   kernel.depth = has_labels_ ? constView(b.raw_depth) : depth;
-  if (has_color_) kernel.color = constView(b.color);
+  if (has_color_) {
+    kernel.color = color_full_ ? constView(b.color_full) : constView(b.color);
+    kernel.color_scale_x = float(kernel.color.width) / float(intrinsics_.width);
+    kernel.color_scale_y = float(kernel.color.height) / float(intrinsics_.height);
+  }
   if (has_labels_) {
     kernel.labels = constView(b.labels);
     kernel.static_mask = constView(b.static_mask);

@@ -120,6 +120,7 @@ class Pipeline {
   PipelineState state_;
   bool has_labels_ = false;
   bool has_color_ = false;
+  bool color_full_ = false;  // the frame's colour is larger than depth: integrate from color_full
   bool model_has_intensity_ = false;  // the prediction carries model_intensity
   StageTimer timer_;
 };

@@ -38,7 +38,8 @@ inline void validateCamera(const Intrinsics& k) {
 struct Pipeline::Buffers {
   ImageBuffer<float> raw_depth;   // as read (metres)
   ImageBuffer<float> fuse_depth;  // raw depth with dynamic pixels removed
-  ImageBuffer<Rgb8> color;
+  ImageBuffer<Rgb8> color;       // at the depth size: tracking's intensity, renders
+  ImageBuffer<Rgb8> color_full;  // the frame's own colour when larger (iPhone: 720x960 over 192x256), fused as is
   ImageBuffer<uint16_t> labels;
   ImageBuffer<uint8_t> static_mask;
   Buffer<uint8_t> is_dynamic;     // per class id

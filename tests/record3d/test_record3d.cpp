@@ -86,8 +86,9 @@ TEST(Record3d, AllFramesDecodeWithPlausibleDepthColorAndPoses) {
     const RgbdFrame f = cap.load(i);
     ASSERT_EQ(f.depth.width(), 192);
     ASSERT_EQ(f.depth.height(), 256);
-    ASSERT_EQ(f.color.width(), 192);
-    ASSERT_EQ(f.color.height(), 256);
+    // Colour at the phone camera's own resolution (fused as is), depth at the LiDAR's.
+    ASSERT_EQ(f.color.width(), 720);
+    ASSERT_EQ(f.color.height(), 960);
     EXPECT_EQ(f.name, std::to_string(i));
     EXPECT_NEAR(f.timestamp, i / 30.0, 1e-9);
     ASSERT_TRUE(f.T_world_cam_given.has_value());
@@ -97,8 +98,8 @@ TEST(Record3d, AllFramesDecodeWithPlausibleDepthColorAndPoses) {
     min_median = std::min(min_median, median);
     max_median = std::max(max_median, median);
     double mean_green = 0;
-    for (int p = 0; p < 192 * 256; ++p) mean_green += f.color.data()[p].g;
-    mean_green /= 192 * 256;
+    for (int p = 0; p < 720 * 960; ++p) mean_green += f.color.data()[p].g;
+    mean_green /= 720 * 960;
     EXPECT_GT(mean_green, 20) << "frame " << i;  // an office in daylight, not a black image
     EXPECT_LT(mean_green, 235) << "frame " << i;
   }

@@ -57,10 +57,11 @@ TEST(Record3dExport, ReadsDepthColorConfidencePosesAndScalesIntrinsics) {
   EXPECT_FLOAT_EQ(f.depth(0, 0), 0.f);  // confidence 1 < default 2
   EXPECT_FLOAT_EQ(f.depth(3, 2), 1.0f + 0.75f + 1.0f + 1.0f);
   EXPECT_FLOAT_EQ(f.depth(1, 0), 2.25f);
-  ASSERT_EQ(f.color.width(), 4);
-  EXPECT_NEAR(f.color(2, 1).r, 200, 3);
-  EXPECT_NEAR(f.color(2, 1).g, 120, 3);
-  EXPECT_NEAR(f.color(2, 1).b, 30, 3);
+  ASSERT_EQ(f.color.width(), 8);  // the metadata's RGB size, not the depth's
+  ASSERT_EQ(f.color.height(), 6);
+  EXPECT_NEAR(f.color(5, 3).r, 200, 3);
+  EXPECT_NEAR(f.color(5, 3).g, 120, 3);
+  EXPECT_NEAR(f.color(5, 3).b, 30, 3);
   ASSERT_TRUE(f.T_world_cam_given);
   EXPECT_NEAR(f.T_world_cam_given->translation().z(), 2.0, 1e-12);
   EXPECT_NEAR(f.T_world_cam_given->linear()(1, 1), -1.0, 1e-12);
