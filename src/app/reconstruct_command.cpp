@@ -75,16 +75,19 @@ void runReconstruct(const ReconstructOptions& o) {
     size_t voxels = 0;
     SceneUp up;
   };
+  // The scene first: it is the large one, so a full disk fails it before anything is replaced.
   auto writeOutputs = [&](bool with_checkpoint) {
     Written w;
+    if (!o.output.empty()) {
+      meta.frame_count = run.framesDone() - pipeline.framesLost();
+      Scene scene = sceneFromBricks(pipeline.hostVolume(), meta);
+      w.up = setSceneFrame(scene, run.trajectory(), *source);
+      writeScene(scene, o.output);
+      w.voxels = scene.activeVoxelCount();
+    }
     if (!o.trajectory.empty()) writeTumTrajectory(o.trajectory, run.trajectory());
     if (o.output.empty()) return w;
-    meta.frame_count = run.framesDone() - pipeline.framesLost();
-    Scene scene = sceneFromBricks(pipeline.hostVolume(), meta);
-    w.up = setSceneFrame(scene, run.trajectory(), *source);
-    writeScene(scene, o.output);
     if (with_checkpoint) run.saveCheckpoint(o.checkpoint());
-    w.voxels = scene.activeVoxelCount();
     return w;
   };
 
