@@ -265,7 +265,12 @@ Record3dCapture::Record3dCapture(const std::string& path, Record3dOptions option
 
   if (meta_.depth_width == 0) {
     // No dw/dh: the depth map has the RGB aspect ratio, so width = sqrt(pixels * w / h).
-    const auto first = lzfseDecode(zip_->read(depthEntry(0), 256 << 20));
+    std::vector<uint8_t> first;
+    try {
+      first = lzfseDecode(zip_->read(depthEntry(0), 256 << 20));
+    } catch (const Error& e) {
+      throw Error(path + ": entry '" + depthEntry(0) + "': " + e.what());
+    }
     const size_t pixels = first.size() / 4;
     const int w = int(std::lround(std::sqrt(double(pixels) * meta_.rgb_width / meta_.rgb_height)));
     const int h = w > 0 ? int(pixels / size_t(w)) : 0;

@@ -173,6 +173,13 @@ TEST(HostileInput, CorruptDepthAndHugeMetadataNameTheFile) {
     for (size_t i = 8; i < d.size(); i += 7) d[i] ^= 0x5A;  // keep the bvx2 magic, break the stream
   });
   expectRefused({"reconstruct", lzfse, "-o", dir + "/out.vdb", "--device", "cpu", "-q"}, {"lzfse.r3d", "rgbd/1.depth"});
+  // The first frame is decoded when the capture is opened (its size gives the depth resolution).
+  const std::string first = r3dCopy(dir + "/first.r3d", 2, [](auto& e) {
+    std::vector<uint8_t>& d = e["rgbd/0.depth"];
+    for (size_t i = 8; i < d.size(); i += 7) d[i] ^= 0x5A;
+  });
+  expectRefused({"reconstruct", first, "-o", dir + "/out.vdb", "--device", "cpu", "-q"}, {"first.r3d", "rgbd/0.depth"});
+  expectRefused({"convert", first, dir + "/tum"}, {"first.r3d", "rgbd/0.depth"});
   const std::string huge = r3dCopy(dir + "/huge.r3d", 2, [](auto& e) {
     std::string meta(e["metadata"].begin(), e["metadata"].end());
     ASSERT_EQ(meta.find("\"dw\""), std::string::npos);  // the capture states no depth size: add one
