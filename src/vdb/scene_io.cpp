@@ -220,8 +220,8 @@ Scene readScene(const std::string& path) {
                                              1e-4f * m.voxel_size_m))
     throw Error(path + ": metadata voxel size " + std::to_string(m.voxel_size_m) + " m contradicts the grid's " +
                 std::to_string(g.tsdf->voxelSize()[0]) + " m (a damaged or crafted file)");
-  if (!(std::isfinite(m.truncation_m) && m.truncation_m > 0 && m.truncation_m < 1e3f * m.voxel_size_m))
-    throw Error(path + ": truncation " + std::to_string(m.truncation_m) + " m is not a positive distance of at most "
+  if (!(std::isfinite(m.truncation_m) && m.truncation_m >= 0 && m.truncation_m < 1e3f * m.voxel_size_m))
+    throw Error(path + ": truncation " + std::to_string(m.truncation_m) + " m is not a distance of at most "
                 "1000 voxels (a damaged or crafted file)");
   return scene;
 }

@@ -79,8 +79,15 @@ TEST_F(OutputRulesTest, AnOutputIsNeverAnInputOrAnotherOutput) {
   VF_REQUIRE_DATA(dataset, "tum_fr3_teddy_head60");
   expectRefused({"reconstruct", dataset, "-o", dir_ + "/x.vdb", "--trajectory", dir_ + "/x.vdb", "--max-frames", "2"},
                 "--trajectory");
-  expectRefused({"reconstruct", dataset, "-o", dir_ + "/x.vdb", "--trajectory", dataset + "/groundtruth.txt",
-                 "--max-frames", "2", "--force"},
+  // A file of the input folder: on a folder of this test's own (frames linked, the ground truth
+  // copied), so that a binary without the rule (VDBFUSE_EXE) cannot replace the shared data's.
+  const std::string own = dir_ + "/dataset";
+  fs::create_directories(own);
+  for (const std::string name : {"rgb", "depth", "rgb.txt", "depth.txt", "camera_intrinsics.txt"})
+    fs::create_symlink(dataset + "/" + name, own + "/" + name);
+  fs::copy_file(dataset + "/groundtruth.txt", own + "/groundtruth.txt");
+  expectRefused({"reconstruct", own, "-o", dir_ + "/x.vdb", "--trajectory", own + "/groundtruth.txt", "--max-frames",
+                 "2", "--force"},
                 "input");
 }
 
