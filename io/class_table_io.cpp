@@ -8,6 +8,7 @@
 
 #include "core/atomic_output.h"
 #include "core/error.h"
+#include "core/mapped_file.h"
 #include "io/image_io.h"
 
 namespace vf {
@@ -131,11 +132,8 @@ ClassTable parseClassTable(const std::string& json_text, const std::string& sour
 }
 
 ClassTable readClassTable(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot open class table " + path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parseClassTable(text.str(), path);
+  // Far above the 150 classes of ADE20K (a few kB).
+  return parseClassTable(readRegularFile(path, "class table", size_t(16) << 20), path);
 }
 
 std::string classTableToJson(const ClassTable& table) {

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/mapped_file.h"
 
 namespace vf {
 namespace {
@@ -37,15 +38,7 @@ std::string at(const std::string& source, int line) { return source + ":" + std:
 }  // namespace
 
 std::string readTextFile(const std::string& path, size_t max_bytes) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot open " + path);
-  std::string text;
-  char buf[65536];
-  while (in.read(buf, sizeof buf) || in.gcount() > 0) {
-    text.append(buf, size_t(in.gcount()));
-    if (text.size() > max_bytes) throw Error(path + ": larger than " + std::to_string(max_bytes >> 20) + " MiB");
-  }
-  return text;
+  return readRegularFile(path, "text file", max_bytes);
 }
 
 std::vector<double> parseNumbers(const std::string& text, const std::string& source) {

@@ -4,6 +4,7 @@
 #include <png.h>
 #include <zlib.h>
 
+#include <algorithm>
 #include <csetjmp>
 #include <cstdio>
 #include <cstdlib>
@@ -394,6 +395,45 @@ ImageHeader decodeImageHeader(const uint8_t* data, size_t size, const std::strin
   if (isPng(data, size)) return PngReader(data, size, name, "image").readHeader();
   if (isJpeg(data, size)) return JpegReader(data, size, name, "image").readHeader();
   notAnImage(name, "image", size);
+}
+
+ImageHeader decodeExrHeader(const uint8_t* data, size_t size, const std::string& name, const std::string& what) {
+  // OpenEXR: magic, version, then attributes "name\0type\0" int32 size, value; an empty name ends them.
+  const auto u32 = [&](size_t at) {
+    return uint32_t(data[at]) | uint32_t(data[at + 1]) << 8 | uint32_t(data[at + 2]) << 16 | uint32_t(data[at + 3]) << 24;
+  };
+  const auto bad = [&](const std::string& why) -> Error {
+    return Error("cannot decode " + what + " " + name + ": " + why);
+  };
+  if (size < 8 || u32(0) != 20000630u) throw bad(size == 0 ? "the file is empty" : "not an OpenEXR file");
+  size_t at = 8;
+  const auto cString = [&]() {
+    const void* end = at < size ? std::memchr(data + at, 0, size - at) : nullptr;
+    if (!end) throw bad("the header ends early (truncated)");
+    std::string s(reinterpret_cast<const char*>(data + at), static_cast<const uint8_t*>(end) - (data + at));
+    at += s.size() + 1;
+    return s;
+  };
+  for (;;) {
+    const std::string attribute = cString();
+    if (attribute.empty()) break;
+    const std::string type = cString();
+    if (at + 4 > size) throw bad("the header ends early (truncated)");
+    const uint32_t bytes = u32(at);
+    at += 4;
+    if (bytes > size - at) throw bad("the header ends early (truncated)");
+    if (attribute == "dataWindow" && type == "box2i" && bytes == 16) {
+      const int64_t x0 = int32_t(u32(at)), y0 = int32_t(u32(at + 4)), x1 = int32_t(u32(at + 8)), y1 = int32_t(u32(at + 12));
+      const int64_t w = x1 - x0 + 1, h = y1 - y0 + 1;
+      checkPixelCount(uint64_t(std::max<int64_t>(w, 0)), uint64_t(std::max<int64_t>(h, 0)), name, what);
+      ImageHeader header;
+      header.width = int(w);
+      header.height = int(h);
+      return header;
+    }
+    at += bytes;
+  }
+  throw bad("the header has no dataWindow");
 }
 
 DepthImage decodeDepthPng(const uint8_t* data, size_t size, const std::string& name, float units_per_metre,

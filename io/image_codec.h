@@ -35,6 +35,10 @@ std::vector<uint8_t> readFileBytes(const std::string& path, const std::string& w
 // PNG or JPEG (told by its signature), header only.
 ImageHeader decodeImageHeader(const uint8_t* data, size_t size, const std::string& name);
 
+// OpenEXR header only: the data window's size (channels and bits left 0), checked like the
+// others before a caller hands the file to a decoder that allocates whatever it states (OpenCV).
+ImageHeader decodeExrHeader(const uint8_t* data, size_t size, const std::string& name, const std::string& what);
+
 // 16-bit single-channel PNG -> metres (value / units_per_metre; 0 stays 0). Any other PNG is an
 // error naming its type; `what` ("depth image") starts the messages.
 DepthImage decodeDepthPng(const uint8_t* data, size_t size, const std::string& name, float units_per_metre,

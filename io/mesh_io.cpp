@@ -13,6 +13,7 @@
 #include "core/atomic_output.h"
 #include "core/color.h"
 #include "core/error.h"
+#include "core/mapped_file.h"
 
 namespace vf {
 namespace {
@@ -305,6 +306,7 @@ double plyRead(const char* p, const std::string& t) {
 }  // namespace
 
 TriangleMesh readPly(const std::string& path) {
+  requireRegularFile(path, "PLY file");  // a FIFO would block, a device never end
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(path + ": cannot open PLY file");
   std::string line, format;

@@ -1,14 +1,17 @@
 #include "io/record3d.h"
 
 #include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <tuple>
 #include <fstream>
 
 #include "core/error.h"
+#include "io/image_codec.h"
+#include "core/mapped_file.h"
 #include "io/lzfse.h"
 #include "io/zip_archive.h"
 
@@ -82,6 +85,11 @@ Record3dMetadata parseRecord3dMetadata(const std::string& text, const std::strin
       m.depth_width = positiveInt(j, "dw", source);
       m.depth_height = positiveInt(j, "dh", source);
     }
+    for (const auto& [w, h, what] : {std::tuple{m.rgb_width, m.rgb_height, "w x h"},
+                                     std::tuple{m.depth_width, m.depth_height, "dw x dh"}})
+      if (uint64_t(w) * uint64_t(h) > kMaxImagePixels)
+        throw Error(source + ": metadata " + what + " = " + std::to_string(w) + "x" + std::to_string(h) +
+                    " is more than the " + std::to_string(kMaxImagePixels / 1000000) + " Mpx a frame may have");
     const json& K = requireKey(j, "K", source);
     if (!K.is_array() || K.size() != 9) throw Error(source + ": metadata 'K' must hold 9 numbers");
     // Column-major: K[0] = fx, K[4] = fy, K[6] = cx, K[7] = cy, K[8] = 1.
@@ -134,19 +142,14 @@ double record3dTimestamp(const Record3dMetadata& m, int index) {
 
 ColorImage decodeColorAtResolution(const std::vector<uint8_t>& encoded, int width, int height,
                                    const std::string& what) {
-  const cv::Mat raw(1, int(encoded.size()), CV_8UC1, const_cast<uint8_t*>(encoded.data()));
-  cv::Mat bgr = cv::imdecode(raw, cv::IMREAD_COLOR);
-  if (bgr.empty()) throw Error(what + ": not a decodable JPEG/PNG image");
-  if (bgr.cols != width || bgr.rows != height) {
-    cv::Mat small;
-    cv::resize(bgr, small, cv::Size(width, height), 0, 0, cv::INTER_AREA);
-    bgr = small;
-  }
+  // The project's codec: the header's size is checked before anything is allocated, and a
+  // truncated or corrupt image is an error (OpenCV's imdecode returned a grey-ended picture).
+  ColorImage decoded = decodeColorImage(encoded.data(), encoded.size(), what, "colour image");
+  if (decoded.width() == width && decoded.height() == height) return decoded;
+  const cv::Mat full(decoded.height(), decoded.width(), CV_8UC4, decoded.data());
   ColorImage color(width, height);
-  for (int y = 0; y < height; ++y) {
-    const cv::Vec3b* row = bgr.ptr<cv::Vec3b>(y);
-    for (int x = 0; x < width; ++x) color(x, y) = {row[x][2], row[x][1], row[x][0], 255};
-  }
+  cv::Mat small(height, width, CV_8UC4, color.data());
+  cv::resize(full, small, small.size(), 0, 0, cv::INTER_AREA);
   return color;
 }
 
@@ -201,14 +204,9 @@ class FolderEntries : public Record3dEntries {
   std::vector<uint8_t> read(const std::string& entry, uint64_t max_bytes) const override {
     const std::filesystem::path path = std::filesystem::path(folder_) / entry;
     std::error_code ec;
-    const uint64_t size = std::filesystem::file_size(path, ec);
-    if (ec) throw Error(folder_ + ": no file '" + entry + "'");
-    if (size > max_bytes) throw Error(path.string() + ": larger than " + std::to_string(max_bytes) + " bytes");
-    std::vector<uint8_t> bytes(size);
-    std::ifstream in(path, std::ios::binary);
-    if (!in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(size)))
-      throw Error(path.string() + ": cannot be read in full");
-    return bytes;
+    if (!std::filesystem::exists(path, ec)) throw Error(folder_ + ": no file '" + entry + "'");
+    const std::string bytes = readRegularFile(path.string(), "capture file", size_t(max_bytes));
+    return {bytes.begin(), bytes.end()};
   }
   std::vector<std::string> entryNames() const override {
     std::vector<std::string> names;
@@ -221,6 +219,25 @@ class FolderEntries : public Record3dEntries {
  private:
   std::string folder_;
 };
+
+// Frames are rgbd/0.depth .. rgbd/N-1.depth; one missing in the middle would end the sequence
+// there without a word, so it is an error naming the entry.
+int contiguousFrameCount(const Record3dEntries& entries, const std::string& path) {
+  int last = -1;
+  for (const std::string& name : entries.entryNames()) {
+    if (name.size() <= 11 || name.compare(0, 5, "rgbd/") != 0 || name.compare(name.size() - 6, 6, ".depth") != 0)
+      continue;
+    const std::string digits = name.substr(5, name.size() - 11);
+    if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
+    last = std::max(last, std::stoi(digits));
+  }
+  if (last < 0 || !entries.contains(depthEntry(0))) throw Error(path + ": no 'rgbd/0.depth' entry");
+  for (int i = 1; i < last; ++i)
+    if (!entries.contains(depthEntry(i)))
+      throw Error(path + ": entry '" + depthEntry(i) + "' is missing, but the capture goes on to " + depthEntry(last) +
+                  " (a damaged or incompletely copied capture)");
+  return last + 1;
+}
 
 }  // namespace
 
@@ -240,8 +257,7 @@ Record3dCapture::Record3dCapture(const std::string& path, Record3dOptions option
   const auto text = zip_->read("metadata", 64 << 20);
   meta_ = parseRecord3dMetadata(std::string(text.begin(), text.end()), path + ": metadata");
 
-  while (zip_->contains(depthEntry(frame_count_))) ++frame_count_;
-  if (frame_count_ == 0) throw Error(path + ": no 'rgbd/0.depth' entry");
+  frame_count_ = contiguousFrameCount(*zip_, path);
   for (const std::string& name : zip_->entryNames()) {
     if (name.size() > 5 && name.compare(0, 5, "rgbd/") == 0 && name.find(".conf") != std::string::npos)
       has_confidence_ = true;
@@ -249,7 +265,12 @@ Record3dCapture::Record3dCapture(const std::string& path, Record3dOptions option
 
   if (meta_.depth_width == 0) {
     // No dw/dh: the depth map has the RGB aspect ratio, so width = sqrt(pixels * w / h).
-    const auto first = lzfseDecode(zip_->read(depthEntry(0), 256 << 20));
+    std::vector<uint8_t> first;
+    try {
+      first = lzfseDecode(zip_->read(depthEntry(0), 256 << 20));
+    } catch (const Error& e) {
+      throw Error(path + ": entry '" + depthEntry(0) + "': " + e.what());
+    }
     const size_t pixels = first.size() / 4;
     const int w = int(std::lround(std::sqrt(double(pixels) * meta_.rgb_width / meta_.rgb_height)));
     const int h = w > 0 ? int(pixels / size_t(w)) : 0;

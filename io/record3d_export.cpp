@@ -2,6 +2,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -9,6 +10,8 @@
 #include <mutex>
 
 #include "core/error.h"
+#include "io/image_codec.h"
+#include "core/mapped_file.h"
 
 namespace vf {
 namespace fs = std::filesystem;
@@ -21,16 +24,18 @@ void enableOpenCvExr() {
 namespace {
 
 std::vector<uint8_t> readBytes(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw Error(path + ": cannot open");
-  return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+  const std::string bytes = readRegularFile(path, "file", size_t(1) << 30);
+  return {bytes.begin(), bytes.end()};
 }
 
 // float32 metres from an EXR: single channel as is; for RGB(A) files OpenCV returns BGR order and
 // the depth is the R channel.
 DepthImage readDepthExr(const std::string& path) {
   enableOpenCvExr();
-  cv::Mat m = cv::imread(path, cv::IMREAD_UNCHANGED);
+  const std::vector<uint8_t> bytes = readBytes(path);
+  decodeExrHeader(bytes.data(), bytes.size(), path, "EXR depth");  // sizes checked before OpenCV allocates
+  const cv::Mat raw(1, int(bytes.size()), CV_8UC1, const_cast<uint8_t*>(bytes.data()));
+  cv::Mat m = cv::imdecode(raw, cv::IMREAD_UNCHANGED);
   if (m.empty())
     throw Error(path + ": cannot read EXR depth (missing, corrupt, or OpenCV built without OpenEXR)");
   if (m.depth() != CV_32F)
@@ -47,6 +52,37 @@ DepthImage readDepthExr(const std::string& path) {
     for (int x = 0; x < m.cols; ++x) depth(x, y) = row[x];
   }
   return depth;
+}
+
+// Depth maps are 0.exr .. N-1.exr; one missing in the middle is an error naming it, not the end.
+int contiguousExrCount(const fs::path& folder) {
+  int last = -1;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(folder, ec)) {
+    const std::string stem = entry.path().stem().string();
+    if (entry.path().extension() != ".exr" || stem.empty() || stem.size() > 9 ||
+        stem.find_first_not_of("0123456789") != std::string::npos)
+      continue;
+    last = std::max(last, std::stoi(stem));
+  }
+  for (int i = 0; i < last; ++i) {
+    const fs::path missing = folder / (std::to_string(i) + ".exr");
+    if (!fs::exists(missing))
+      throw Error(missing.string() + " is missing, but the export goes on to " + std::to_string(last) +
+                  ".exr (a damaged or incompletely copied export)");
+  }
+  return last + 1;
+}
+
+// Confidence: 8-bit single-channel PNG, through the project's codec (size checked first).
+std::vector<uint8_t> readConfidence(const std::string& path, int width, int height) {
+  const std::vector<uint8_t> bytes = readBytes(path);
+  ImageHeader header;
+  const Image<uint16_t> conf = decodeGreyPng(bytes.data(), bytes.size(), path, header, "confidence map");
+  if (conf.empty() || header.bits != 8 || conf.width() != width || conf.height() != height)
+    throw Error(path + ": confidence must be 8-bit single-channel " + std::to_string(width) + "x" +
+                std::to_string(height));
+  return {conf.data(), conf.data() + size_t(width) * size_t(height)};
 }
 
 }  // namespace
@@ -68,7 +104,7 @@ Record3dExport::Record3dExport(const std::string& folder, Record3dOptions option
   } else {
     throw Error(folder + ": no depth/0.exr (nor rgbd/0.exr)");
   }
-  while (fs::exists(depthPath(frame_count_))) ++frame_count_;
+  frame_count_ = contiguousExrCount(fs::path(folder) / depth_dir_);
 
   const DepthImage first = readDepthExr(depthPath(0));
   if (meta_.depth_width && (meta_.depth_width != first.width() || meta_.depth_height != first.height()))
@@ -106,15 +142,9 @@ RgbdFrame Record3dExport::load(int index) const {
     throw Error(depthPath(index) + ": depth is " + std::to_string(w) + "x" + std::to_string(h) +
                 ", frame 0 is " + std::to_string(meta_.depth_width) + "x" +
                 std::to_string(meta_.depth_height));
-  cv::Mat conf;
-  if (options_.min_confidence > 0 && fs::exists(confPath(index))) {
-    conf = cv::imread(confPath(index), cv::IMREAD_UNCHANGED);
-    if (conf.type() != CV_8UC1 || conf.cols != w || conf.rows != h)
-      throw Error(confPath(index) + ": confidence must be 8-bit single-channel " +
-                  std::to_string(w) + "x" + std::to_string(h));
-    if (!conf.isContinuous()) conf = conf.clone();
-  }
-  filterRecord3dDepth(frame.depth, conf.empty() ? nullptr : conf.ptr<uint8_t>(0),
+  std::vector<uint8_t> conf;
+  if (options_.min_confidence > 0 && fs::exists(confPath(index))) conf = readConfidence(confPath(index), w, h);
+  filterRecord3dDepth(frame.depth, conf.empty() ? nullptr : conf.data(),
                       options_.min_confidence, options_.depth_units_per_metre);
   if (options_.load_color) {
     const std::string path = colorPath(index);

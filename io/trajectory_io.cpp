@@ -8,6 +8,7 @@
 
 #include "core/atomic_output.h"
 #include "core/error.h"
+#include "core/mapped_file.h"
 #include "io/image_io.h"
 
 namespace vf {
@@ -67,11 +68,7 @@ Trajectory parseTumTrajectory(const std::string& text, const std::string& source
 }
 
 Trajectory readTumTrajectory(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot open trajectory file " + path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parseTumTrajectory(text.str(), path);
+  return parseTumTrajectory(readRegularFile(path, "trajectory file", kMaxTextFileBytes), path);
 }
 
 void writeTumTrajectory(const std::string& path, const Trajectory& trajectory) {

@@ -139,6 +139,17 @@ AteResult computeAte(const Trajectory& estimate, const Trajectory& ground_truth,
   return r;
 }
 
+void requireDistinctTimestamps(const Trajectory& trajectory, const std::string& source) {
+  std::vector<double> t = timestamps(trajectory);
+  std::sort(t.begin(), t.end());
+  const auto twin = std::adjacent_find(t.begin(), t.end());
+  if (twin != t.end()) {
+    char when[64];
+    std::snprintf(when, sizeof when, "%.6f", *twin);
+    throw Error(source + ": two poses have the timestamp " + when + "; a trajectory needs one pose per time");
+  }
+}
+
 RpeResult computeRpe(const Trajectory& estimate_in, const Trajectory& ground_truth_in, int delta_frames) {
   if (delta_frames < 1) throw Error("RPE --delta must be at least 1 frame, got " + std::to_string(delta_frames));
   const Trajectory est = sortedByTime(estimate_in), gt = sortedByTime(ground_truth_in);

@@ -36,6 +36,10 @@ struct AteResult {
   Pose T_gt_est = Pose::Identity();  // the alignment: ground truth ~ T_gt_est * estimate
 };
 // Throws vf::Error when fewer than 3 poses associate (the alignment is then undetermined).
+// Throws vf::Error naming `source` and the time when two poses share a timestamp: TUM's tools
+// would pair either with the ground truth, and RPE's steps would be zero or doubled.
+void requireDistinctTimestamps(const Trajectory& trajectory, const std::string& source);
+
 AteResult computeAte(const Trajectory& estimate, const Trajectory& ground_truth,
                      double max_difference_s = kTumMaxTimeDifference_s);
 

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/mapped_file.h"
 #include "io/trajectory_io.h"
 
 namespace vf {
@@ -43,7 +44,7 @@ std::string toLower(std::string s) {
 
 // The comment lines at the top of a TUM list ("# file: 'rgbd_dataset_freiburg1_xyz.bag'").
 std::string headerComments(const std::string& path) {
-  std::ifstream in(path);
+  std::istringstream in(readRegularFile(path, "TUM file list", kMaxTextFileBytes));
   std::string line, out;
   while (std::getline(in, line) && isCommentOrBlank(line)) out += line + "\n";
   return out;
@@ -83,8 +84,7 @@ PinholeOverride parsePinholeOverride(const std::string& text) {
 }
 
 Calibration readCameraIntrinsicsFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error("cannot open camera intrinsics file " + path);
+  std::istringstream in(readRegularFile(path, "camera intrinsics file", kMaxTextFileBytes));
   Calibration c;
   c.source = path;
   std::string line;
@@ -144,8 +144,8 @@ std::optional<Calibration> publishedTumCalibration(const std::string& hint) {
 }
 
 std::vector<TimedFile> readTumFileList(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error("cannot open TUM file list " + path + " (expected in a TUM RGB-D folder)");
+  if (!fs::exists(path)) throw Error("cannot open TUM file list " + path + " (expected in a TUM RGB-D folder)");
+  std::istringstream in(readRegularFile(path, "TUM file list", kMaxTextFileBytes));
   std::vector<TimedFile> files;
   std::string line;
   for (int line_no = 1; std::getline(in, line); ++line_no) {

@@ -3,6 +3,7 @@
 #include <zip.h>
 
 #include "core/error.h"
+#include "core/mapped_file.h"
 
 namespace vf {
 
@@ -26,6 +27,7 @@ std::string libzipMessage(int code) {
 }  // namespace
 
 ZipArchive::ZipArchive(const std::string& path) : path_(path), handle_(std::make_unique<Handle>()) {
+  requireRegularFile(path, "zip archive");  // libzip would wait on a FIFO
   int code = 0;
   // ZIP_CHECKCONS makes libzip compare the central directory with the local headers, which
   // catches archives cut short or patched in the middle before any entry is read.

@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <exception>
 
+#include "app/output_policy.h"
+#include "app/run_control.h"
 #include "core/error.h"
 #include "core/version.h"
 #include "viewer/display_check.h"
@@ -22,9 +24,15 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-int runViewer(const ViewOptions& o) {
+int runViewer(const ViewOptions& o, bool force) {
   const bool offscreen = !o.screenshot_path.empty();
-  if (offscreen) pictureFormatFromPath(o.screenshot_path);  // a wrong extension fails before the work
+  if (offscreen) {
+    pictureFormatFromPath(o.screenshot_path);  // a wrong extension fails before the work
+    app::OutputPolicy outputs(force);
+    outputs.input(o.scene_path);
+    if (!o.trajectory_path.empty()) outputs.input(o.trajectory_path);
+    outputs.file(o.screenshot_path, "--screenshot");
+  }
   requireDisplay(offscreen);  // before the scene is read: fail in a second, not after meshing
   const auto t0 = std::chrono::steady_clock::now();
   // --no-trajectory hides the path; a trajectory camera still needs the poses.
@@ -56,7 +64,9 @@ int runViewer(const ViewOptions& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  app::startSignalThread();  // before VTK starts threads (app/run_control.h)
   ViewOptions o;
+  bool force = false;
   std::string size, camera = "front", color = "rgb", slice, slice_grid = "tsdf";
   bool no_trajectory = false;
   CLI::App app{"vdbfuse-view " VDBFUSE_VERSION_STRING ": look at a vdbfuse scene (.vdb): surface by RGB or class, "
@@ -68,6 +78,7 @@ int main(int argc, char** argv) {
   app.add_option("--frustum-every", o.frustum_every, "a camera frustum every N poses (default: about 20 in all)")
       ->check(CLI::PositiveNumber);
   app.add_option("--screenshot", o.screenshot_path, "render offscreen to this .png or .jpg and exit (needs X: xvfb-run -a)");
+  app.add_flag("-f,--force", force, "overwrite an existing --screenshot file");
   app.add_option("--size", size, "window / picture size WIDTHxHEIGHT (default 1280x720)");
   CLI::Option* camera_option =
       app.add_option("--camera", camera, "front | top | side | trajectory:N (pose N of the trajectory); default: "
@@ -90,7 +101,7 @@ int main(int argc, char** argv) {
     if (!slice.empty()) o.slice = parseSliceSpec(slice);
     o.slice.grid = slice_grid == "weight" ? SliceGrid::kWeight : SliceGrid::kTsdf;
     o.show_trajectory = !no_trajectory;
-    return runViewer(o);
+    return runViewer(o, force);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   } catch (const Error& e) {

@@ -6,6 +6,7 @@
 
 #include "app/command_registry.h"
 #include "app/output_policy.h"
+#include "core/error.h"
 #include "io/record3d_export.h"
 #include "io/tum_writer.h"
 
@@ -40,7 +41,12 @@ void runConvert(const ConvertOptions& o) {
       std::fprintf(stderr, "  %d/%d frames\n", done, total);
     }
   };
-  const TumWriteResult result = writeTumFolder(*source, o.output, write);
+  TumWriteResult result;
+  try {
+    result = writeTumFolder(*source, o.output, write);
+  } catch (const Error& e) {  // name the folder asked for, not the temporary one being filled
+    throw Error("cannot write " + o.output + " (the old folder, if any, is kept): " + e.what());
+  }
   std::printf("wrote %d frames and %d poses to %s (TUM: depth/ rgb/ rgb.txt depth.txt%s "
               "camera_intrinsics.txt)\n",
               result.frames, result.poses, o.output.c_str(),
@@ -63,7 +69,7 @@ void setup(CLI::App& root) {
       ->capture_default_str()
       ->check(CLI::Range(0, 2));
   cmd->add_option("--max-frames", options->max_frames, "convert only the first N frames")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::PositiveNumber);
   cmd->add_flag("-f,--force", options->force, "replace an existing output folder, with everything in it");
   cmd->callback([options] { runConvert(*options); });
 }

@@ -3,15 +3,15 @@
 // (scene.vdb -> scene.txt) is copied beside the output: edits keep the frame, so it still fits.
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "app/command_registry.h"
+#include "app/output_policy.h"
 #include "core/atomic_output.h"
 #include "core/error.h"
+#include "core/mapped_file.h"
 #include "io/image_io.h"
 #include "vdb/class_selection.h"
 #include "vdb/scene.h"
@@ -32,21 +32,19 @@ struct EditOptions {
 
 void runEdit(const EditOptions& o) {
   namespace fs = std::filesystem;
-  std::error_code ec;
-  if (fs::exists(o.output) && fs::equivalent(o.scene, o.output, ec))
-    throw Error(o.output + ": edit never overwrites its input; choose another output");
-  if (fs::exists(o.output) && !o.force) throw Error(o.output + ": exists; pass --force to overwrite it");
+  OutputPolicy::requireExtension(o.output, {".vdb"}, "-o");
   const std::string trajectory_in = fs::path(o.scene).replace_extension(".txt").string();
   const std::string trajectory_out = fs::path(o.output).replace_extension(".txt").string();
-  const bool copy_trajectory = fs::exists(trajectory_in) && !fs::equivalent(trajectory_in, trajectory_out, ec);
-  if (copy_trajectory && fs::exists(trajectory_out) && !o.force)
-    throw Error(trajectory_out + ": exists (the trajectory would be copied there); pass --force to overwrite it");
-  std::string trajectory;  // copied byte for byte: edits keep the frame
-  if (copy_trajectory) {
-    std::ifstream in(trajectory_in, std::ios::binary);
-    trajectory.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    if (!in && !in.eof()) throw Error(trajectory_in + ": cannot read the trajectory beside the scene");
-  }
+  std::error_code ec;
+  const bool copy_trajectory = fs::exists(trajectory_in, ec);
+  OutputPolicy outputs(o.force);
+  outputs.input(o.scene);
+  if (copy_trajectory) outputs.input(trajectory_in);
+  outputs.file(o.output, "-o");
+  if (copy_trajectory) outputs.file(trajectory_out, "the trajectory copied beside -o");
+  // Copied byte for byte: edits keep the frame.
+  const std::string trajectory =
+      copy_trajectory ? readRegularFile(trajectory_in, "trajectory beside the scene", kMaxTextFileBytes) : "";
   Scene scene = readScene(o.scene);
   const size_t before = scene.activeVoxelCount();
   std::printf("read %s: %zu active voxels\n", o.scene.c_str(), before);
@@ -91,7 +89,7 @@ void setup(CLI::App& root) {
   CLI::App* cmd = root.add_subcommand("edit", "Remove classes, crop, drop outliers or smooth a scene into a new .vdb");
   cmd->add_option("scene", o->scene, "input scene (.vdb), never modified")->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", o->output, "output scene (.vdb)")->required();
-  cmd->add_flag("--force", o->force, "overwrite an existing output");
+  cmd->add_flag("-f,--force", o->force, "overwrite an existing output");
   cmd->add_option("--exclude-classes", o->exclude, "remove the voxels of these classes (names or ids)")->delimiter(',');
   cmd->add_option("--crop-box", o->crop_box, "keep voxels inside xmin,ymin,zmin,xmax,ymax,zmax (metres)")
       ->delimiter(',');
@@ -100,7 +98,8 @@ void setup(CLI::App& root) {
                 "--min-component triangles (the pieces `mesh --min-component` drops), so none is left");
   cmd->add_option("--min-component", o->min_component,
                   "with --remove-outliers: smallest surface piece kept, in triangles")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--outlier-min-weight", o->outlier_min_weight, "with --remove-outliers: least observations kept")
       ->capture_default_str();
   cmd->add_option("--smooth", o->smooth, "iterations of level-set mean-curvature smoothing")->check(CLI::Range(0, 100));

@@ -33,6 +33,8 @@ void runTrajectoryEvaluation(const EvaluateOptions& o) {
   if (gt_path.empty()) throw Error("evaluate: give --groundtruth (a TUM file or a dataset folder) or --dataset DIR");
   const Trajectory estimate = readTumTrajectory(o.trajectory);
   const Trajectory ground_truth = loadGroundTruth(gt_path, o.mesh.source);
+  requireDistinctTimestamps(estimate, o.trajectory);
+  requireDistinctTimestamps(ground_truth, gt_path);
   const AteResult ate = computeAte(estimate, ground_truth);
   const RpeResult rpe = computeRpe(estimate, ground_truth, o.delta_frames);
 

@@ -2,10 +2,14 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <cstdint>
+#include <map>
 #include <memory>
+#include <vector>
 #include <string>
 
 #include "app/command_registry.h"
+#include "app/output_policy.h"
 #include "app/scene_axes.h"
 #include "core/error.h"
 #include "core/atomic_output.h"
@@ -23,7 +27,7 @@ namespace fs = std::filesystem;
 
 struct ExportOptions {
   std::string scene, output, color = "rgb", axes;
-  bool blender = false, points = false;
+  bool blender = false, points = false, force = false;
   float min_weight = 0;
 };
 
@@ -45,7 +49,8 @@ std::string jsonVec(Vec3f v) {
 void exportBlender(Scene& scene, const ExportOptions& o) {
   const SceneAxes axes = axesFor(o.axes, MeshFormat::kPly);
   const Rigid3f to_file = exportRotationFor(scene, o.scene, axes);
-  fs::create_directories(o.output);
+  // Written whole into a temporary folder beside the output, which replaces the old one at the end.
+  AtomicFolder folder(o.output);
   MeshOptions options;
   options.min_weight = o.min_weight;
   TriangleMesh mesh = meshScene(scene, options);
@@ -59,10 +64,15 @@ void exportBlender(Scene& scene, const ExportOptions& o) {
   // Manifest for samples/blender/import_scene.py: one object per class, plus the volume.
   std::string manifest = "{\n  \"meshes\": [\n";
   bool first = true;
-  for (const auto& [id, part] : splitByClass(mesh)) {
-    const std::string stem = scene.hasClasses() ? classFileStem(scene.meta.classes, id) : "surface";
+  std::string report;
+  const std::map<int32_t, TriangleMesh> parts = splitByClass(mesh);
+  std::vector<int32_t> ids;
+  for (const auto& [id, part] : parts) ids.push_back(id);
+  const std::map<int32_t, std::string> stems = uniqueClassFileStems(scene.meta.classes, ids);
+  for (const auto& [id, part] : parts) {
+    const std::string stem = scene.hasClasses() ? stems.at(id) : "surface";
     const std::string file = stem + ".ply";
-    writePly(part, (fs::path(o.output) / file).string(), false);
+    writePly(part, folder.file(file), false);
     const ClassInfo* info = scene.meta.classes.findId(id);
     const Rgb8 c = classColorOf(scene.meta.classes, id);
     manifest += std::string(first ? "" : ",\n") + "    {\"file\": \"" + jsonEscape(file) + "\", \"class_id\": " +
@@ -70,11 +80,14 @@ void exportBlender(Scene& scene, const ExportOptions& o) {
                 "\", \"class_color\": [" + std::to_string(c.r) + ", " + std::to_string(c.g) + ", " +
                 std::to_string(c.b) + "], \"triangles\": " + std::to_string(part.triangleCount()) + "}";
     first = false;
-    std::printf("wrote %s: %zu triangles\n", file.c_str(), part.triangleCount());
+    report += "wrote " + file + ": " + std::to_string(part.triangleCount()) + " triangles\n";
   }
-  const BlenderVolumeInfo volume = writeBlenderVolume(scene, (fs::path(o.output) / "volume.vdb").string(), to_file);
-  std::printf("wrote volume.vdb: density + color grids (density %.3g..%.3g over a %.3f m band)\n",
-              volume.density_min, volume.density_max, volume.band_m);
+  const BlenderVolumeInfo volume = writeBlenderVolume(scene, folder.file("volume.vdb"), to_file);
+  char volume_line[160];
+  std::snprintf(volume_line, sizeof volume_line,
+                "wrote volume.vdb: density + color grids (density %.3g..%.3g over a %.3f m band)\n",
+                volume.density_min, volume.density_max, volume.band_m);
+  report += volume_line;
   const SceneMetadata& m = scene.meta;
   char numbers[256];
   std::snprintf(numbers, sizeof numbers,
@@ -88,20 +101,38 @@ void exportBlender(Scene& scene, const ExportOptions& o) {
               ", " + jsonVec({to_file.r[6], to_file.r[7], to_file.r[8]}) + "],\n  \"bounds_min\": " + jsonVec(lo) +
               ",\n  \"bounds_max\": " + jsonVec(hi) + "\n}\n";
   // Temp file + rename, with write errors reported (an unchecked ofstream renamed a short file).
-  writeFileAtomic((fs::path(o.output) / "scene.json").string(), manifest);
+  writeFileAtomic(folder.file("scene.json"), manifest);
+  folder.commit();
+  std::printf("%s", report.c_str());  // only now is any of it written
   std::printf("axes %s (up from %s)\n", sceneAxesName(axes), axes == SceneAxes::kCamera ? "-" : m.up_source.c_str());
   std::printf("wrote scene.json; import with: blender --python samples/blender/import_scene.py -- %s\n",
               o.output.c_str());
 }
 
+// Messages name the folder the user asked for, not the temporary one being filled.
+void exportBlenderNamingTarget(Scene& scene, const ExportOptions& o) {
+  try {
+    exportBlender(scene, o);
+  } catch (const Error& e) {
+    throw Error("cannot write " + o.output + " (the old folder, if any, is kept): " + e.what());
+  }
+}
+
 void runExport(const ExportOptions& o) {
   if (o.blender == o.points) throw Error("export: choose exactly one of --blender and --points");
   if (!o.axes.empty()) parseSceneAxes(o.axes);
+  OutputPolicy outputs(o.force);
+  outputs.input(o.scene);
+  if (o.blender) {
+    outputs.folder(o.output, "-o");
+  } else {
+    OutputPolicy::requireExtension(o.output, {".ply"}, "-o");
+    outputs.file(o.output, "-o");
+  }
   Scene scene = readScene(o.scene);
   if (o.color == "class" && !scene.hasClasses())
     throw Error("--color class: the scene has no class grid (fused without labels)");
-  if (o.blender) return exportBlender(scene, o);
-  if (meshFormatFromPath(o.output) != MeshFormat::kPly) throw Error(o.output + ": --points writes .ply only");
+  if (o.blender) return exportBlenderNamingTarget(scene, o);
   MeshOptions options;
   options.min_weight = o.min_weight;
   options.color = o.color == "class" ? MeshColorMode::kClass : MeshColorMode::kRgb;
@@ -117,6 +148,7 @@ void setup(CLI::App& root) {
   cmd->add_option("scene", o->scene, "scene document (.vdb)")->required();
   cmd->add_option("-o,--output", o->output, "--blender: output folder; --points: output .ply")->required();
   cmd->add_flag("--blender", o->blender, "per-class PLY meshes, volume.vdb (density, color) and scene.json");
+  cmd->add_flag("-f,--force", o->force, "overwrite an existing output (--blender: replace the folder and all in it)");
   cmd->add_flag("--points", o->points, "surface points (zero crossings) with colors as PLY");
   cmd->add_option("--color", o->color, "--points colors: fused rgb or class colors")
       ->check(CLI::IsMember({"rgb", "class"}))

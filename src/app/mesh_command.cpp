@@ -2,12 +2,16 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "app/command_registry.h"
+#include "app/output_policy.h"
 #include "app/scene_axes.h"
+#include "core/atomic_output.h"
 #include "core/error.h"
 #include "io/mesh_io.h"
 #include "vdb/class_selection.h"
@@ -22,9 +26,18 @@ struct MeshCommandOptions {
   std::string scene, output, color = "rgb", axes;
   float min_weight = 0;
   std::vector<std::string> include, exclude;
-  bool per_class = false, with_class_property = false;
-  size_t min_component = 0;
+  bool per_class = false, with_class_property = false, force = false;
+  int64_t min_component = 0;
 };
+
+namespace fs = std::filesystem;
+
+// Claims `path` and, for OBJ, the material library written beside it.
+void claimMeshFile(OutputPolicy& outputs, const std::string& path, const std::string& option) {
+  outputs.file(path, option);
+  if (meshFormatFromPath(path) == MeshFormat::kObj)
+    outputs.file(fs::path(path).replace_extension(".mtl").string(), option + " (its .mtl)");
+}
 
 double secondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -34,7 +47,11 @@ void runMesh(const MeshCommandOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   if (!o.include.empty() && !o.exclude.empty())
     throw Error("--include-classes and --exclude-classes cannot be combined");
+  if (o.min_component < 0) throw Error("--min-component " + std::to_string(o.min_component) + ": expected triangles >= 0");
   const SceneAxes axes = axesFor(o.axes, meshFormatFromPath(o.output));  // bad values fail before the work
+  OutputPolicy outputs(o.force);
+  outputs.input(o.scene);
+  if (!o.per_class) claimMeshFile(outputs, o.output, "-o");
   Scene scene = readScene(o.scene);
   MeshOptions options;
   options.min_weight = o.min_weight;
@@ -57,10 +74,11 @@ void runMesh(const MeshCommandOptions& o) {
                 classNames(scene.meta.classes, ids).c_str(), before - mesh.triangleCount());
   }
   if (o.min_component > 1) {
-    const ComponentStats before = meshComponents(mesh, o.min_component);
-    const size_t removed = removeSmallComponents(mesh, o.min_component);
+    const size_t min_component = size_t(o.min_component);
+    const ComponentStats before = meshComponents(mesh, min_component);
+    const size_t removed = removeSmallComponents(mesh, min_component);
     std::printf("removed %zu triangles in %zu of %zu pieces (those under %zu triangles)\n", removed, before.small,
-                before.pieces, o.min_component);
+                before.pieces, min_component);
   }
   if (mesh.triangles.empty()) throw Error(o.output + ": nothing left to write (empty mesh)");
   transformMesh(mesh, exportRotationFor(scene, o.scene, axes));
@@ -76,14 +94,30 @@ void runMesh(const MeshCommandOptions& o) {
     return;
   }
   if (!scene.hasClasses()) throw Error("--per-class: the scene has no class grid (fused without labels)");
-  namespace fs = std::filesystem;
+  // All class meshes or none: they are written into a temporary folder beside the output and
+  // moved into place together once every one is whole.
   const fs::path out(o.output);
-  for (const auto& [id, part] : splitByClass(mesh)) {
-    fs::path path = out.parent_path() / (out.stem().string() + "_" + classFileStem(scene.meta.classes, id) +
-                                         out.extension().string());
-    writeMesh(part, path.string(), write);
-    std::printf("wrote %s: %zu triangles\n", path.string().c_str(), part.triangleCount());
+  const fs::path folder = out.has_parent_path() ? out.parent_path() : fs::path(".");
+  const std::map<int32_t, TriangleMesh> parts = splitByClass(mesh);
+  std::vector<int32_t> part_ids;
+  for (const auto& [id, part] : parts) part_ids.push_back(id);
+  const std::map<int32_t, std::string> stems = uniqueClassFileStems(scene.meta.classes, part_ids);
+  std::map<int32_t, std::string> names;
+  for (const auto& [id, stem] : stems) {
+    names[id] = out.stem().string() + "_" + stem + out.extension().string();
+    claimMeshFile(outputs, (folder / names[id]).string(), "--per-class");
   }
+  AtomicFolder staging((folder / (out.stem().string() + "_classes")).string());
+  for (const auto& [id, part] : parts) {
+    try {
+      writeMesh(part, staging.file(names[id]), write);
+    } catch (const Error& e) {
+      throw Error("cannot write " + (folder / names[id]).string() + " (no class mesh was replaced): " + e.what());
+    }
+  }
+  staging.commitFilesInto(folder.string());
+  for (const auto& [id, part] : parts)
+    std::printf("wrote %s: %zu triangles\n", (folder / names[id]).string().c_str(), part.triangleCount());
   std::printf("done (%.2f s)\n", secondsSince(t0));
 }
 
@@ -96,6 +130,7 @@ void setup(CLI::App& root) {
   cmd->add_option("--include-classes", o->include, "keep only faces of these classes (names or ids)")->delimiter(',');
   cmd->add_option("--exclude-classes", o->exclude, "drop faces of these classes (names or ids)")->delimiter(',');
   cmd->add_flag("--per-class", o->per_class, "write one mesh per class: <output stem>_<class>.<ext>");
+  cmd->add_flag("-f,--force", o->force, "overwrite existing outputs");
   cmd->add_option("--min-component", o->min_component, "drop connected pieces (faces sharing a vertex) with fewer triangles");
   cmd->add_option("--color", o->color, "vertex colors: fused rgb or class colors")
       ->check(CLI::IsMember({"rgb", "class"}))

@@ -49,6 +49,13 @@ void OutputPolicy::claim(const std::string& path, const std::string& option, boo
     if (in == target || (is_folder && isWithin(in, target)))
       throw Error(option + " " + path + (in == target ? " is" : " holds") + " an input of this command (" +
                   in.string() + "); write the output elsewhere");
+  // A file of an input folder (a dataset's groundtruth.txt) is an input too, once it exists.
+  std::error_code exists_ec;
+  if (!is_folder && fs::exists(target, exists_ec))
+    for (const fs::path& in : inputs_)
+      if (isWithin(target, in) && fs::is_directory(in, exists_ec))
+        throw Error(option + " " + path + " is a file of " + in.string() +
+                    ", an input of this command; write the output elsewhere");
   for (const auto& [out, other] : outputs_)
     if (out == target) throw Error(option + " " + path + " is also the output of " + other + "; give each its own path");
   const fs::path parent = fs::path(path).has_parent_path() ? fs::path(path).parent_path() : fs::path(".");

@@ -75,15 +75,18 @@ void runReconstruct(const ReconstructOptions& o) {
     size_t voxels = 0;
     SceneUp up;
   };
+  // The scene first: it is the large one, so a full disk fails it before anything is replaced.
   auto writeOutputs = [&](bool with_checkpoint) {
     Written w;
+    if (!o.output.empty()) {
+      meta.frame_count = run.framesDone() - pipeline.framesLost();
+      // Straight from the bricks: the scene's grids in memory would take twice the bricks' memory.
+      const BrickVolumeView bricks = pipeline.hostVolume();  // one download on CUDA
+      w.up = setSceneFrame(meta, bricks, run.trajectory(), *source);
+      w.voxels = writeSceneFromBricks(bricks, meta, o.output);
+    }
     if (!o.trajectory.empty()) writeTumTrajectory(o.trajectory, run.trajectory());
     if (o.output.empty()) return w;
-    meta.frame_count = run.framesDone() - pipeline.framesLost();
-    // Straight from the bricks: the scene's grids in memory would take twice the bricks' memory.
-    const BrickVolumeView bricks = pipeline.hostVolume();  // one download on CUDA
-    w.up = setSceneFrame(meta, bricks, run.trajectory(), *source);
-    w.voxels = writeSceneFromBricks(bricks, meta, o.output);
     if (with_checkpoint) run.saveCheckpoint(o.checkpoint());
     return w;
   };

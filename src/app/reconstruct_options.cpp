@@ -26,7 +26,7 @@ void addReconstructOptions(CLI::App& cmd, ReconstructOptions& o) {
   cmd.add_option("--truncation-m", o.truncation_m, "TSDF truncation in metres (default: 5 voxels)");
   cmd.add_option("--max-depth-m", o.max_depth_m, "Depth readings further away are not fused")->capture_default_str();
   cmd.add_option("--volume-size", o.volume_size)->group("");  // removed: says so
-  cmd.add_option("--max-frames", o.max_frames, "Fuse at most this many frames");
+  cmd.add_option("--max-frames", o.max_frames, "Fuse at most this many frames")->check(CLI::PositiveNumber);
   cmd.add_option("--device", o.device, "cpu, cuda or auto (CUDA when a GPU is usable)")->capture_default_str();
   cmd.add_option("--poses", o.poses, "icp, given (recorded poses, in their own world frame) or given+icp")
       ->capture_default_str();

@@ -7,8 +7,10 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <map>
 #include <mutex>
 #include <set>
+#include <vector>
 
 #include "core/error.h"
 
@@ -27,9 +29,20 @@ void track(const std::string& path) {
   std::lock_guard<std::mutex> lock(g_pending_mutex);
   pending().insert(path);
 }
+// Old outputs moved aside while a folder commit swaps the new one in: aside -> target. Until the
+// swap is done they are the user's data, to be put back, never removed, if the process must end.
+std::map<std::string, std::string>& asides() {
+  static std::map<std::string, std::string> paths;
+  return paths;
+}
 void untrack(const std::string& path) {
   std::lock_guard<std::mutex> lock(g_pending_mutex);
   pending().erase(path);
+  asides().erase(path);
+}
+void trackAside(const std::string& aside, const std::string& target) {
+  std::lock_guard<std::mutex> lock(g_pending_mutex);
+  asides()[aside] = target;
 }
 void removeTracked(const std::string& path) {
   std::error_code ec;
@@ -93,8 +106,17 @@ int removeStaleTemporaries(const std::string& target) {
 void removeAllPendingOutputs() {
   std::lock_guard<std::mutex> lock(g_pending_mutex);
   std::error_code ec;
-  for (const std::string& path : pending()) fs::remove_all(path, ec);
+  // Another thread may still be adding files to a temporary folder: removal fails on the newcomers
+  // (the folder is not empty), so it is repeated until the folder is gone, after which no file can
+  // be created in it any more.
+  for (const std::string& path : pending())
+    for (int attempt = 0; attempt < 1000 && fs::exists(fs::symlink_status(path, ec)); ++attempt) fs::remove_all(path, ec);
   pending().clear();
+  for (const auto& [aside, target] : asides()) {
+    if (!fs::exists(fs::symlink_status(target, ec))) tryRename(aside, target);  // the swap had not happened
+    else fs::remove_all(aside, ec);
+  }
+  asides().clear();
 }
 
 AtomicFile::AtomicFile(std::string target) : target_(std::move(target)), temp_(temporaryFor(target_)) {
@@ -182,7 +204,7 @@ void AtomicFolder::commit() {
   if (fs::exists(target_, ec)) {
     if (!fs::is_directory(target_, ec)) throw Error("cannot write " + target_ + ": a file of that name exists");
     old = temporaryFor(target_);
-    track(old);
+    trackAside(old, target_);
     renameInto(target_, old, target_);
   }
   try {
@@ -195,6 +217,26 @@ void AtomicFolder::commit() {
   committed_ = true;
   if (!old.empty()) removeTracked(old);
   syncPath(folderOf(fs::path(target_)).string(), O_RDONLY | O_DIRECTORY);
+}
+
+void AtomicFolder::commitFilesInto(const std::string& folder) {
+  if (committed_) throw Error("cannot write " + target_ + ": committed twice");
+  std::error_code ec;
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::directory_iterator(temp_, ec)) {
+    if (!entry.is_regular_file() || !syncPath(entry.path().string(), O_RDONLY))
+      throw Error("cannot write " + (fs::path(folder) / entry.path().filename()).string() + ": cannot sync it (" +
+                  errnoText() + ")");
+    files.push_back(entry.path());
+  }
+  if (ec) throw Error("cannot write " + target_ + ": cannot list " + temp_ + " (" + ec.message() + ")");
+  for (const fs::path& file : files) {
+    const std::string to = (fs::path(folder) / file.filename()).string();
+    renameInto(file.string(), to, to);
+  }
+  committed_ = true;
+  removeTracked(temp_);
+  syncPath(folder, O_RDONLY | O_DIRECTORY);
 }
 
 void writeFileAtomic(const std::string& path, const std::string& bytes) {

@@ -55,6 +55,10 @@ class AtomicFolder {
   std::string file(const std::string& name) const;
 
   void commit();
+  // For a set of files that sit beside other files (per-class meshes): once all are written into
+  // the temporary folder, renames each into the existing `folder` (replacing a file of its name)
+  // and removes the temporary. A write that failed before left none of them in place.
+  void commitFilesInto(const std::string& folder);
 
  private:
   std::string target_, temp_;

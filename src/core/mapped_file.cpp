@@ -7,6 +7,7 @@
 
 #include <cerrno>
 #include <cstring>
+#include <string>
 
 #include "core/error.h"
 
@@ -32,6 +33,30 @@ int openRegular(const std::string& path, const std::string& what, size_t& size) 
 void requireRegularFile(const std::string& path, const std::string& what) {
   size_t size = 0;
   ::close(openRegular(path, what, size));
+}
+
+std::string readRegularFile(const std::string& path, const std::string& what, size_t max_bytes) {
+  size_t size = 0;
+  const int fd = openRegular(path, what, size);
+  if (size > max_bytes) {
+    ::close(fd);
+    throw Error(path + ": the " + what + " is " + std::to_string(size) + " bytes, more than the " +
+                std::to_string(max_bytes) + " a " + what + " may have");
+  }
+  std::string bytes(size, '\0');
+  size_t done = 0;
+  while (done < size) {
+    const ssize_t n = ::read(fd, &bytes[done], size - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const int err = n < 0 ? errno : 0;
+      ::close(fd);
+      throw Error(path + ": cannot read the " + what + (err ? std::string(": ") + std::strerror(err) : ": it ended early"));
+    }
+    done += size_t(n);
+  }
+  ::close(fd);
+  return bytes;
 }
 
 MappedFile::MappedFile(const std::string& path, const std::string& what) {

@@ -27,4 +27,13 @@ class MappedFile {
 // Throws vf::Error naming `path` unless it is a regular file (opened without blocking on FIFOs).
 void requireRegularFile(const std::string& path, const std::string& what);
 
+// The bound of every text input (lists, trajectories, class tables, calibration, metadata): far
+// above any real one (TUM's longest ground truth is a few MB), far below what would exhaust memory.
+constexpr size_t kMaxTextFileBytes = size_t(256) << 20;
+
+// The whole of a regular file, for every reader that takes a file in one piece: a FIFO, a device
+// (/dev/zero) or a folder is refused before anything is read, and so is a file over max_bytes.
+// Throws vf::Error naming `path` and `what` ("class table").
+std::string readRegularFile(const std::string& path, const std::string& what, size_t max_bytes);
+
 }  // namespace vf

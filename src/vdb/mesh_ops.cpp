@@ -1,6 +1,8 @@
 #include "vdb/mesh_ops.h"
 
+#include <algorithm>
 #include <cctype>
+#include <set>
 #include <numeric>
 #include <string>
 #include <unordered_map>
@@ -123,6 +125,25 @@ std::string classFileStem(const ClassTable& table, int32_t id) {
   for (char& ch : name)
     if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-' && ch != '_') ch = '_';
   return name.empty() ? "class_" + std::to_string(id) : name;
+}
+
+std::map<int32_t, std::string> uniqueClassFileStems(const ClassTable& table, const std::vector<int32_t>& ids) {
+  std::map<int32_t, std::string> stems;
+  std::set<std::string> taken;  // lower case: some file systems ignore case
+  auto lower = [](std::string s) {
+    for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+  };
+  std::vector<int32_t> sorted = ids;
+  std::sort(sorted.begin(), sorted.end());
+  for (int32_t id : sorted) {
+    std::string stem = classFileStem(table, id);
+    for (int n = 0; taken.count(lower(stem)); ++n)
+      stem = classFileStem(table, id) + "_" + std::to_string(id) + (n ? "_" + std::to_string(n) : "");
+    taken.insert(lower(stem));
+    stems[id] = stem;
+  }
+  return stems;
 }
 
 }  // namespace vf

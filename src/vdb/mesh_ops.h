@@ -41,4 +41,9 @@ size_t removeSmallComponents(TriangleMesh& mesh, size_t min_triangles);
 // A file-name-safe form of a class name ("dining table" -> "dining_table"; unknown -> "unknown").
 std::string classFileStem(const ClassTable& table, int32_t id);
 
+// classFileStem of each id, made unique: names that sanitise (or differ only in case) to the same
+// stem ("a/b" and "a_b") get "_<id>" appended after the first (lowest id), so that one class's file
+// never replaces another's.
+std::map<int32_t, std::string> uniqueClassFileStems(const ClassTable& table, const std::vector<int32_t>& ids);
+
 }  // namespace vf

@@ -190,7 +190,9 @@ std::array<double, 3> fusedFramesMeanColor(int frames) {
     for (int y = 0; y < f.depth.height(); ++y)
       for (int x = 0; x < f.depth.width(); ++x) {
         if (!(f.depth(x, y) > 0) || f.labels(x, y) != 0) continue;
-        const Rgb8 c = f.color(x, y);
+        // Colour is the phone's 720x960 over 192x256 depth: the pixel fusion samples there.
+        const Rgb8 c = f.color((2 * x + 1) * f.color.width() / (2 * f.depth.width()),
+                               (2 * y + 1) * f.color.height() / (2 * f.depth.height()));
         sum[0] += c.r, sum[1] += c.g, sum[2] += c.b, n += 1;
       }
   }

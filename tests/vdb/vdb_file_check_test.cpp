@@ -122,6 +122,7 @@ TEST_F(VdbFileCheck, WalksAScene) {
   Scene scene;
   openvdb::GridPtrVec grids = makeGrids();
   scene.grids().tsdf = openvdb::gridPtrCast<openvdb::FloatGrid>(grids[0]);
+  scene.grids().tsdf->setTransform(openvdb::math::Transform::createLinearTransform(0.01));  // as the metadata says
   scene.grids().weight = scene.grids().tsdf->deepCopy();
   scene.grids().weight->setName("weight");
   scene.grids().weight->setGridClass(openvdb::GRID_UNKNOWN);

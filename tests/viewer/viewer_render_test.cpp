@@ -222,7 +222,7 @@ TEST_F(ViewerRender, SceneWithoutClassesFallsBackToRgbWithANotice) {
   ASSERT_FALSE(img.empty());
   EXPECT_GT(countHue(img, test::kColorLeft), 3000u) << "fused colors shown";
   EXPECT_LT(countHue(img, test::kChairColor), 300u) << "only the red-green seam may look yellow";
-  const RunResult hide = view(plain_ + " --screenshot " + png + " --hide-classes chair");
+  const RunResult hide = view(plain_ + " --screenshot " + png + " --force --hide-classes chair");
   EXPECT_EQ(hide.exit_code, 1);
   EXPECT_NE(hide.output.find("no class grid"), std::string::npos) << hide.output;
 }
