@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/text_fields.h"
 #include "core/mapped_file.h"
 
 namespace vf {
@@ -20,9 +21,8 @@ std::vector<double> lineNumbers(std::string line, const std::string& where) {
   std::istringstream in(line);
   std::string word;
   while (in >> word) {
-    char* end = nullptr;
-    const double v = std::strtod(word.c_str(), &end);
-    if (end == word.c_str() || *end != '\0') throw Error(where + ": '" + word + "' is not a number");
+    double v = 0;
+    if (!parseDouble(word, v)) throw Error(where + ": '" + word + "' is not a number");
     out.push_back(v);
   }
   return out;

@@ -8,6 +8,7 @@
 
 #include "core/atomic_output.h"
 #include "core/error.h"
+#include "core/text_fields.h"
 #include "core/mapped_file.h"
 #include "io/image_io.h"
 
@@ -30,10 +31,8 @@ std::vector<std::string> fields(const std::string& line) {
 }
 
 double number(const std::string& s, const std::string& where) {
-  char* end = nullptr;
-  const double v = std::strtod(s.c_str(), &end);
-  if (end == s.c_str() || *end != '\0' || !std::isfinite(v))
-    throw Error(where + ": '" + s + "' is not a finite number");
+  double v = 0;
+  if (!parseFiniteDouble(s, v)) throw Error(where + ": '" + s + "' is not a finite number");
   return v;
 }
 

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/text_fields.h"
 #include "core/mapped_file.h"
 #include "io/trajectory_io.h"
 
@@ -26,11 +27,7 @@ std::vector<std::string> splitBlanks(const std::string& line) {
   return out;
 }
 
-bool parseNumber(const std::string& s, double& v) {
-  char* end = nullptr;
-  v = std::strtod(s.c_str(), &end);
-  return end != s.c_str() && *end == '\0' && std::isfinite(v);
-}
+bool parseNumber(const std::string& s, double& v) { return parseFiniteDouble(s, v); }
 
 bool isCommentOrBlank(const std::string& line) {
   const size_t first = line.find_first_not_of(" \t\r");

@@ -10,6 +10,7 @@
 #include <map>
 
 #include "core/error.h"
+#include "core/text_fields.h"
 #include "io/trajectory_io.h"
 #include "vdb/mesh_ops.h"
 #include "vdb/mesher.h"
@@ -132,9 +133,8 @@ SceneContent loadSceneContent(const std::string& scene_path, const std::string& 
 int findClassRow(const std::vector<ClassRow>& rows, const std::string& key) {
   for (size_t i = 0; i < rows.size(); ++i)
     if (rows[i].name == key) return int(i);
-  char* end = nullptr;
-  const long id = std::strtol(key.c_str(), &end, 10);
-  if (key.empty() || *end != '\0') return -1;
+  int id = 0;
+  if (!parseInt(key, id)) return -1;
   for (size_t i = 0; i < rows.size(); ++i)
     if (rows[i].id == id) return int(i);
   return -1;

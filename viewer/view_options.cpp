@@ -1,30 +1,18 @@
 #include "viewer/view_options.h"
 
 #include <algorithm>
-#include <cmath>
-#include <cstdlib>
 #include <filesystem>
 
 #include "core/error.h"
+#include "core/text_fields.h"
 #include "viewer/view_style.h"
 
 namespace vf::viewer {
 namespace {
 
-bool parseInt(const std::string& s, int& out) {
-  if (s.empty()) return false;
-  char* end = nullptr;
-  const long v = std::strtol(s.c_str(), &end, 10);
-  if (*end != '\0' || v < -(1L << 30) || v > (1L << 30)) return false;
-  out = int(v);
-  return true;
-}
-
-bool parseFloat(const std::string& s, float& out) {
-  if (s.empty()) return false;
-  char* end = nullptr;
-  out = std::strtof(s.c_str(), &end);
-  return *end == '\0' && std::isfinite(out);
+// Within +-2^30: sizes and indices, whose products must not overflow.
+bool parseBoundedInt(const std::string& s, int& out) {
+  return parseInt(s, out) && out >= -(1 << 30) && out <= (1 << 30);
 }
 
 }  // namespace
@@ -41,7 +29,7 @@ CameraSpec parseCameraSpec(const std::string& text) {
     return spec;
   }
   const std::string prefix = "trajectory:";
-  if (text.rfind(prefix, 0) == 0 && parseInt(text.substr(prefix.size()), spec.frame) && spec.frame >= 0) {
+  if (text.rfind(prefix, 0) == 0 && parseBoundedInt(text.substr(prefix.size()), spec.frame) && spec.frame >= 0) {
     spec.preset = CameraPreset::kTrajectory;
     return spec;
   }
@@ -51,7 +39,7 @@ CameraSpec parseCameraSpec(const std::string& text) {
 SliceSpec parseSliceSpec(const std::string& text) {
   SliceSpec spec;
   const bool axis_ok = text.size() >= 3 && text[1] == ':' && (text[0] == 'x' || text[0] == 'y' || text[0] == 'z');
-  if (!axis_ok || !parseFloat(text.substr(2), spec.value_m))
+  if (!axis_ok || !parseFiniteFloat(text.substr(2), spec.value_m))
     throw Error("--slice '" + text + "': expected AXIS:VALUE with AXIS x, y or z and VALUE in metres (e.g. z:1.5)");
   spec.enabled = true;
   spec.axis = text[0] - 'x';
@@ -61,7 +49,7 @@ SliceSpec parseSliceSpec(const std::string& text) {
 void parseWindowSize(const std::string& text, int& width, int& height) {
   const size_t x = text.find('x');
   int w = 0, h = 0;
-  if (x == std::string::npos || !parseInt(text.substr(0, x), w) || !parseInt(text.substr(x + 1), h) || w < 16 ||
+  if (x == std::string::npos || !parseBoundedInt(text.substr(0, x), w) || !parseBoundedInt(text.substr(x + 1), h) || w < 16 ||
       h < 16 || w > 16384 || h > 16384)
     throw Error("--size '" + text + "': expected WIDTHxHEIGHT in pixels, each 16..16384 (e.g. 1280x720)");
   width = w;

@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cctype>
-#include <charconv>
 
 #include "core/error.h"
+#include "core/text_fields.h"
 
 namespace vf {
 namespace {
@@ -14,13 +14,6 @@ std::string trimmed(const std::string& s) {
   while (a < b && std::isspace(static_cast<unsigned char>(s[a]))) ++a;
   while (b > a && std::isspace(static_cast<unsigned char>(s[b - 1]))) --b;
   return s.substr(a, b - a);
-}
-
-// A whole token that is an int (no sign but '-', no trailing text, in range).
-bool parseId(const std::string& s, int& id) {
-  const char* end = s.data() + s.size();
-  const auto [ptr, ec] = std::from_chars(s.data(), end, id);
-  return ec == std::errc() && ptr == end && !s.empty();
 }
 
 }  // namespace
@@ -42,7 +35,7 @@ std::vector<int> ClassTable::resolve(const std::vector<std::string>& items, cons
       if (token.empty()) continue;
       const ClassInfo* c = findName(token);
       int id = 0;
-      if (!c && parseId(token, id)) c = findId(id);
+      if (!c && parseInt(token, id)) c = findId(id);
       if (!c) throw Error(what + ": unknown class '" + token + "'; valid classes: " + listing());
       if (std::find(ids.begin(), ids.end(), c->id) == ids.end()) ids.push_back(c->id);
     }

@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <cctype>
 #include <set>
-#include <numeric>
 #include <string>
 #include <unordered_map>
 
 #include "core/error.h"
+#include "core/union_find.h"
 
 namespace vf {
 
@@ -72,22 +72,15 @@ std::map<int32_t, TriangleMesh> splitByClass(const TriangleMesh& mesh) {
 }
 
 std::vector<size_t> faceComponentSizes(const TriangleMesh& mesh) {
-  // Union-find over vertices; faces sharing a vertex share a component.
-  std::vector<int32_t> parent(mesh.positions.size());
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](int32_t v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-  };
+  // Faces sharing a vertex share a component.
+  UnionFind pieces(mesh.positions.size());
   for (const auto& t : mesh.triangles)
-    for (int k = 1; k < 3; ++k) {
-      const int32_t a = find(t[0]), b = find(t[k]);
-      if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    }
-  std::vector<size_t> faces(parent.size(), 0);
-  for (const auto& t : mesh.triangles) ++faces[find(t[0])];
+    for (int k = 1; k < 3; ++k) pieces.unite(t[0], t[k]);
+  const std::vector<int32_t>& root = pieces.flatten();
+  std::vector<size_t> faces(root.size(), 0);
+  for (const auto& t : mesh.triangles) ++faces[size_t(root[size_t(t[0])])];
   std::vector<size_t> out(mesh.triangles.size());
-  for (size_t f = 0; f < mesh.triangles.size(); ++f) out[f] = faces[find(mesh.triangles[f][0])];
+  for (size_t f = 0; f < mesh.triangles.size(); ++f) out[f] = faces[size_t(root[size_t(mesh.triangles[f][0])])];
   return out;
 }
 

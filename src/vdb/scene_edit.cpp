@@ -7,9 +7,9 @@
 #include <cstdint>
 #include <cmath>
 #include <memory>
-#include <numeric>
 
 #include "core/error.h"
+#include "core/union_find.h"
 #include "vdb/mesh_ops.h"
 #include "vdb/mesher.h"
 #include "vdb/scene_grids.h"
@@ -74,10 +74,6 @@ struct VoxelComponents {
   std::unique_ptr<openvdb::Int32Tree> ids;
   std::vector<openvdb::Int32Tree::LeafNodeType*> leaves;
   std::vector<int32_t> parent;
-  int32_t root(int32_t v) {
-    while (parent[size_t(v)] != v) v = parent[size_t(v)] = parent[size_t(parent[size_t(v)])];
-    return v;
-  }
 };
 
 VoxelComponents voxelComponents(const SceneGrids& g) {
@@ -92,8 +88,7 @@ VoxelComponents voxelComponents(const SceneGrids& g) {
       for (auto it = c.leaves[n]->beginValueOn(); it; ++it) it.setValue(next++);
     }
   });
-  c.parent.resize(size_t(base.back()));
-  std::iota(c.parent.begin(), c.parent.end(), 0);
+  UnionFind parts(size_t(base.back()));
   openvdb::tree::ValueAccessor<const openvdb::Int32Tree> acc(*c.ids);
   for (const auto* leaf : c.leaves)
     for (auto it = leaf->cbeginValueOn(); it; ++it)
@@ -102,10 +97,9 @@ VoxelComponents voxelComponents(const SceneGrids& g) {
         nb[a] += 1;
         int32_t other;
         if (!acc.probeValue(nb, other)) continue;
-        const int32_t x = c.root(*it), y = c.root(other);
-        if (x != y) c.parent[size_t(std::max(x, y))] = std::min(x, y);
+        parts.unite(*it, other);
       }
-  for (int32_t v = 0; v < int32_t(c.parent.size()); ++v) c.parent[size_t(v)] = c.root(v);
+  c.parent = parts.flatten();
   return c;
 }
 
