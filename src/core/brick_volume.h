@@ -78,6 +78,19 @@ struct HostBrickVolume {
     color.resize(bricks * kBrickVoxels);
     class_vote.resize(with_classes ? bricks * kBrickVoxels : 0);
   }
+  // A copy of bricks held elsewhere (a pipeline's live volume, valid only until its next frame).
+  static HostBrickVolume copyOf(const BrickVolumeView& v) {
+    HostBrickVolume h;
+    h.voxel_size_m = v.voxel_size_m;
+    h.truncation_m = v.truncation_m;
+    h.with_classes = v.hasClasses();
+    const size_t voxels = v.brick_count * kBrickVoxels;
+    h.coords.assign(v.coords, v.coords + v.brick_count);
+    h.tsdf.assign(v.tsdf, v.tsdf + voxels);
+    h.color.assign(v.color, v.color + voxels);
+    if (h.with_classes) h.class_vote.assign(v.class_vote, v.class_vote + voxels);
+    return h;
+  }
   BrickVolumeView view() const {
     return {voxel_size_m, truncation_m, coords.size(), coords.data(), tsdf.data(), color.data(),
             with_classes ? class_vote.data() : nullptr};

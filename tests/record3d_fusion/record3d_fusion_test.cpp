@@ -121,15 +121,7 @@ TEST(Record3dFusion, ColourIsFusedAtTheCamerasOwnResolution) {
   }
   const RgbdFrame view = source->load(kView);
   auto render = [&](Pipeline& fused) {
-    HostBrickVolume bricks;
-    const BrickVolumeView v = fused.hostVolume();
-    bricks.voxel_size_m = v.voxel_size_m;
-    bricks.truncation_m = v.truncation_m;
-    bricks.with_classes = v.hasClasses();
-    bricks.coords.assign(v.coords, v.coords + v.brick_count);
-    bricks.tsdf.assign(v.tsdf, v.tsdf + v.brick_count * kBrickVoxels);
-    bricks.color.assign(v.color, v.color + v.brick_count * kBrickVoxels);
-    if (bricks.with_classes) bricks.class_vote.assign(v.class_vote, v.class_vote + v.brick_count * kBrickVoxels);
+    const HostBrickVolume bricks = HostBrickVolume::copyOf(fused.hostVolume());
     Pipeline renderer(params, color_k, Device::Cpu, bricks.with_classes);
     renderer.restore(fused.state(), bricks);
     return renderer.predictFrom(*view.T_world_cam_given, true);

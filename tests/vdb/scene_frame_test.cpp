@@ -174,18 +174,6 @@ struct Fused {
   HostBrickVolume bricks;  // a copy of the pipeline's
 };
 
-HostBrickVolume copyBricks(const BrickVolumeView& v) {
-  HostBrickVolume h;
-  h.voxel_size_m = v.voxel_size_m;
-  h.truncation_m = v.truncation_m;
-  h.with_classes = v.hasClasses();
-  h.coords.assign(v.coords, v.coords + v.brick_count);
-  h.tsdf.assign(v.tsdf, v.tsdf + v.brick_count * kBrickVoxels);
-  h.color.assign(v.color, v.color + v.brick_count * kBrickVoxels);
-  if (h.with_classes) h.class_vote.assign(v.class_vote, v.class_vote + v.brick_count * kBrickVoxels);
-  return h;
-}
-
 Fused fuse(const FrameSource& source, int frames, PoseSource poses) {
   PipelineParams params;
   params.volume.voxel_size_m = 0.02f;
@@ -195,7 +183,7 @@ Fused fuse(const FrameSource& source, int frames, PoseSource poses) {
     const RgbdFrame frame = source.load(i);
     out.trajectory.push_back({frame.timestamp, pipeline.processFrame(frame, poses).T_world_cam});
   }
-  out.bricks = copyBricks(pipeline.hostVolume());
+  out.bricks = HostBrickVolume::copyOf(pipeline.hostVolume());
   out.scene = sceneFromBricks(out.bricks.view(), {});
   return out;
 }
