@@ -3,7 +3,7 @@
 // voxels with weight > 0 active, every other value the grid's background. Shared by the
 // in-memory conversion (sceneFromBricks) and the streaming writer (writeSceneFromBricks), so
 // both give the same grids. Only src/vdb/*.cpp include this.
-#include <openvdb/openvdb.h>
+#include "vdb/openvdb_extern_grids.h"
 
 #include <array>
 #include <cmath>

@@ -1,6 +1,6 @@
 #pragma once
 // The OpenVDB side of a Scene. Only src/vdb/*.cpp include this (OpenVDB templates compile slowly).
-#include <openvdb/openvdb.h>
+#include "vdb/openvdb_extern_grids.h"
 
 #include <string>
 
