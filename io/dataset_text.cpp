@@ -1,8 +1,10 @@
 #include "io/dataset_text.h"
 
 #include <Eigen/SVD>
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -140,6 +142,22 @@ PinholeMatrix parseIntrinsicMatrix(const std::string& text, const std::string& s
         std::isfinite(k(1, 2))))
     throw Error(source + ": the focal lengths must be positive and finite");
   return {float(k(0, 0)), float(k(1, 1)), float(k(0, 2)), float(k(1, 2))};
+}
+
+std::vector<NumberedFile> numberedFiles(const std::string& folder, const std::string& prefix, const std::string& suffix) {
+  std::vector<NumberedFile> out;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(folder, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.size() <= prefix.size() + suffix.size() || name.compare(0, prefix.size(), prefix) != 0 ||
+        name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
+      continue;
+    const std::string digits = name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
+    if (digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
+    out.push_back({std::stol(digits), digits});
+  }
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 }  // namespace vf

@@ -42,4 +42,14 @@ struct PinholeMatrix {
 };
 PinholeMatrix parseIntrinsicMatrix(const std::string& text, const std::string& source);
 
+// The files of `folder` named <prefix><1 to 9 digits><suffix> (ScanNet "12.png", Replica
+// "depth000012.png", 7-Scenes "frame-000012.depth.png"), sorted by number; digits as written.
+// A missing or unreadable folder gives none.
+struct NumberedFile {
+  long number = 0;
+  std::string digits;
+  bool operator<(const NumberedFile& o) const { return number < o.number || (number == o.number && digits < o.digits); }
+};
+std::vector<NumberedFile> numberedFiles(const std::string& folder, const std::string& prefix, const std::string& suffix);
+
 }  // namespace vf

@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <regex>
 
 #include "core/error.h"
 #include "io/dataset_layouts.h"
@@ -65,16 +64,7 @@ FrameList readReplica(const std::string& folder, const LayoutOptions& options) {
   const std::string traj_path = (dir / "traj.txt").string();
   const std::vector<Pose> poses = parseReplicaTrajectory(readTextFile(traj_path), traj_path);
 
-  static const std::regex pattern(R"(depth(\d{1,9})\.png)");
-  std::vector<std::pair<long, std::string>> numbers;
-  std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(dir / "results", ec)) {
-    std::smatch m;
-    const std::string name = entry.path().filename().string();
-    if (std::regex_match(name, m, pattern)) numbers.emplace_back(std::stol(m[1].str()), m[1].str());
-  }
-  std::sort(numbers.begin(), numbers.end());
-  for (const auto& [number, digits] : numbers) {
+  for (const auto& [number, digits] : numberedFiles((dir / "results").string(), "depth", ".png")) {
     if (size_t(number) >= poses.size())
       throw Error(traj_path + " holds " + std::to_string(poses.size()) + " poses but results/ has depth" + digits +
                   ".png (one pose per frame, in frame order)");

@@ -2,7 +2,6 @@
 // io/dataset_layouts.h.
 #include <algorithm>
 #include <filesystem>
-#include <regex>
 
 #include "core/error.h"
 #include "io/dataset_layouts.h"
@@ -34,17 +33,8 @@ FrameList readScanNet(const std::string& folder, const LayoutOptions& options) {
   list.fx = k.fx, list.fy = k.fy, list.cx = k.cx, list.cy = k.cy;
   list.intrinsics_source = intrinsics;
 
-  static const std::regex pattern(R"((\d{1,9})\.png)");
-  std::vector<long> numbers;
-  std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(dir / "depth", ec)) {
-    std::smatch m;
-    const std::string name = entry.path().filename().string();
-    if (std::regex_match(name, m, pattern)) numbers.push_back(std::stol(m[1].str()));
-  }
-  std::sort(numbers.begin(), numbers.end());
-  for (const long n : numbers) {
-    const std::string stem = std::to_string(n);
+  for (const NumberedFile& n : numberedFiles((dir / "depth").string(), "", ".png")) {
+    const std::string& stem = n.digits;
     FrameFiles f;
     f.name = stem;
     f.depth = (dir / "depth" / (stem + ".png")).string();
@@ -52,7 +42,7 @@ FrameList readScanNet(const std::string& folder, const LayoutOptions& options) {
       if (fs::exists(dir / "color" / (stem + ext))) f.color = (dir / "color" / (stem + ext)).string();
     const fs::path pose = dir / "pose" / (stem + ".txt");
     if (fs::exists(pose)) f.T_world_cam = readPoseMatrixFile(pose.string());  // -inf (lost): none
-    f.timestamp = double(n) / kDatasetFrameRateHz;
+    f.timestamp = double(n.number) / kDatasetFrameRateHz;
     list.frames.push_back(std::move(f));
   }
   if (list.frames.empty()) throw Error(folder + "/depth: no N.png depth frames (not a ScanNet export)");

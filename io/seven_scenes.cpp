@@ -1,32 +1,14 @@
 // 7-Scenes / 3DMatch frame folders (io/dataset_layouts.h).
 #include <algorithm>
 #include <filesystem>
-#include <regex>
 
 #include "core/error.h"
 #include "io/dataset_layouts.h"
 #include "io/dataset_text.h"
 
 namespace vf {
-namespace {
 
 namespace fs = std::filesystem;
-
-// frame-XXXXXX.depth.png -> XXXXXX, sorted.
-std::vector<std::pair<long, std::string>> depthFrames(const std::string& folder) {
-  static const std::regex pattern(R"(frame-(\d{1,9})\.depth\.png)");
-  std::vector<std::pair<long, std::string>> out;
-  std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(folder, ec)) {
-    const std::string name = entry.path().filename().string();
-    std::smatch m;
-    if (std::regex_match(name, m, pattern)) out.emplace_back(std::stol(m[1].str()), m[1].str());
-  }
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
-}  // namespace
 
 bool looksLikeSevenScenes(const std::string& folder) {
   std::error_code ec;
@@ -64,7 +46,7 @@ FrameList readSevenScenes(const std::string& folder, const LayoutOptions& option
     list.fx = list.fy = 585.f, list.cx = 320.f, list.cy = 240.f;
     list.intrinsics_source = "7-Scenes' documented 585, 585, 320, 240 (no camera-intrinsics.txt)";
   }
-  for (const auto& [number, digits] : depthFrames(folder)) {
+  for (const auto& [number, digits] : numberedFiles(folder, "frame-", ".depth.png")) {
     const std::string stem = "frame-" + digits;
     FrameFiles f;
     f.name = stem;

@@ -3,9 +3,10 @@
 // unknown layout is a clear error, and evaluate --mesh gives the distances it was built with.
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
-#include <regex>
 
 #include "dataset_fixtures.h"
 #include "io/mesh_io.h"
@@ -25,9 +26,14 @@ std::string run(const std::string& args, int& status) {
 
 // The number after `label` in the output (e.g. "rmse" -> 0.000).
 double figure(const std::string& log, const std::string& label) {
-  std::smatch m;
-  if (!std::regex_search(log, m, std::regex(label + R"(\s+([-0-9.]+))"))) return NAN;
-  return std::stod(m[1].str());
+  for (size_t at = log.find(label); at != std::string::npos; at = log.find(label, at + 1)) {
+    const char* text = log.c_str() + at + label.size();
+    if (!std::isspace(static_cast<unsigned char>(*text))) continue;
+    char* end = nullptr;
+    const double value = std::strtod(text, &end);
+    if (end != text) return value;
+  }
+  return NAN;
 }
 
 // The trajectory written with --poses given is the input's up to one rigid motion (today the
