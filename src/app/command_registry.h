@@ -23,4 +23,4 @@ void setupAllCommands(CLI::App& root);
 #define VF_CONCAT_INNER(a, b) a##b
 #define VF_CONCAT(a, b) VF_CONCAT_INNER(a, b)
 #define VF_REGISTER_COMMAND(order, setup_fn) \
-  static ::vf::app::CommandRegistrar VF_CONCAT(vf_command_registrar_, __LINE__)(order, setup_fn)
+  static ::vf::app::CommandRegistrar VF_CONCAT(vf_command_registrar_, __COUNTER__)(order, setup_fn)

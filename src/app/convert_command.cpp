@@ -53,7 +53,7 @@ void runConvert(const ConvertOptions& o) {
               result.poses ? " groundtruth.txt" : "");
 }
 
-void setup(CLI::App& root) {
+void setupConvertCommand(CLI::App& root) {
   auto options = std::make_shared<ConvertOptions>();
   CLI::App* cmd = root.add_subcommand(
       "convert", "Convert a Record3D capture (.r3d or EXR+JPG export) into a TUM RGB-D folder");
@@ -76,6 +76,6 @@ void setup(CLI::App& root) {
 
 }  // namespace
 
-VF_REGISTER_COMMAND(60, setup);
+VF_REGISTER_COMMAND(60, setupConvertCommand);
 
 }  // namespace vf::app

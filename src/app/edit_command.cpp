@@ -84,7 +84,7 @@ void runEdit(const EditOptions& o) {
               before - scene.activeVoxelCount(), copy_trajectory ? (" and " + trajectory_out).c_str() : "");
 }
 
-void setup(CLI::App& root) {
+void setupEditCommand(CLI::App& root) {
   auto o = std::make_shared<EditOptions>();
   CLI::App* cmd = root.add_subcommand("edit", "Remove classes, crop, drop outliers or smooth a scene into a new .vdb");
   cmd->add_option("scene", o->scene, "input scene (.vdb), never modified")->required()->check(CLI::ExistingFile);
@@ -108,6 +108,6 @@ void setup(CLI::App& root) {
 
 }  // namespace
 
-VF_REGISTER_COMMAND(35, setup);
+VF_REGISTER_COMMAND(35, setupEditCommand);
 
 }  // namespace vf::app

@@ -59,7 +59,7 @@ void runEvaluate(EvaluateOptions o) {
   runMeshEvaluation(o.mesh);
 }
 
-void setup(CLI::App& root) {
+void setupEvaluateCommand(CLI::App& root) {
   auto options = std::make_shared<EvaluateOptions>();
   CLI::App* cmd = root.add_subcommand(
       "evaluate",
@@ -107,6 +107,6 @@ void setup(CLI::App& root) {
 
 }  // namespace
 
-VF_REGISTER_COMMAND(50, setup);
+VF_REGISTER_COMMAND(50, setupEvaluateCommand);
 
 }  // namespace vf::app

@@ -142,7 +142,7 @@ void runExport(const ExportOptions& o) {
   std::printf("wrote %s: %zu points\n", o.output.c_str(), cloud.vertexCount());
 }
 
-void setup(CLI::App& root) {
+void setupExportCommand(CLI::App& root) {
   auto o = std::make_shared<ExportOptions>();
   CLI::App* cmd = root.add_subcommand("export", "Export a scene for Blender (meshes + volume) or as a point cloud");
   cmd->add_option("scene", o->scene, "scene document (.vdb)")->required();
@@ -161,6 +161,6 @@ void setup(CLI::App& root) {
 
 }  // namespace
 
-VF_REGISTER_COMMAND(40, setup);
+VF_REGISTER_COMMAND(40, setupExportCommand);
 
 }  // namespace vf::app

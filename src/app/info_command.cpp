@@ -44,7 +44,7 @@ void runInfo(const std::string& path) {
   }
 }
 
-void setup(CLI::App& root) {
+void setupInfoCommand(CLI::App& root) {
   auto path = std::make_shared<std::string>();
   CLI::App* cmd = root.add_subcommand("info", "Show a scene's grids, active voxels, bounds, memory and classes");
   cmd->add_option("scene", *path, "scene document (.vdb)")->required();
@@ -53,6 +53,6 @@ void setup(CLI::App& root) {
 
 }  // namespace
 
-VF_REGISTER_COMMAND(30, setup);
+VF_REGISTER_COMMAND(30, setupInfoCommand);
 
 }  // namespace vf::app

@@ -121,7 +121,7 @@ void runMesh(const MeshCommandOptions& o) {
   std::printf("done (%.2f s)\n", secondsSince(t0));
 }
 
-void setup(CLI::App& root) {
+void setupMeshCommand(CLI::App& root) {
   auto o = std::make_shared<MeshCommandOptions>();
   CLI::App* cmd = root.add_subcommand("mesh", "Extract the surface of a scene (marching cubes) to .ply, .obj or .glb");
   cmd->add_option("scene", o->scene, "scene document (.vdb)")->required();
@@ -142,6 +142,6 @@ void setup(CLI::App& root) {
 
 }  // namespace
 
-VF_REGISTER_COMMAND(20, setup);
+VF_REGISTER_COMMAND(20, setupMeshCommand);
 
 }  // namespace vf::app

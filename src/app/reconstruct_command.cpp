@@ -143,7 +143,7 @@ void runReconstruct(const ReconstructOptions& o) {
   printMemory(pipeline.brickCount(), pipeline.volumeBytes());
 }
 
-void setup(CLI::App& root) {
+void setupReconstructCommand(CLI::App& root) {
   auto o = std::make_shared<ReconstructOptions>();
   CLI::App* cmd = root.add_subcommand("reconstruct", "Fuse an RGB-D sequence into a scene (.vdb)");
   addReconstructOptions(*cmd, *o);
@@ -159,6 +159,6 @@ void setup(CLI::App& root) {
 
 }  // namespace
 
-VF_REGISTER_COMMAND(10, setup);
+VF_REGISTER_COMMAND(10, setupReconstructCommand);
 
 }  // namespace vf::app

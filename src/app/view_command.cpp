@@ -47,7 +47,7 @@ std::string findViewer() {
               "-DVDBFUSE_WITH_VIEWER=ON (needs libvtk9-dev)");
 }
 
-void setup(CLI::App& root) {
+void setupViewCommand(CLI::App& root) {
   CLI::App* cmd = root.add_subcommand(
       "view", "Look at a scene in the VTK viewer (runs vdbfuse-view; `vdbfuse view --help` lists its options)");
   // Everything after `view`, --help included, belongs to vdbfuse-view.
@@ -59,6 +59,6 @@ void setup(CLI::App& root) {
 
 }  // namespace
 
-VF_REGISTER_COMMAND(45, setup);
+VF_REGISTER_COMMAND(45, setupViewCommand);
 
 }  // namespace vf::app
