@@ -6,7 +6,7 @@ if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -qq
 $SUDO apt-get install -y -qq --no-install-recommends \
-  build-essential cmake ninja-build ccache pkg-config \
+  build-essential cmake ninja-build ccache pkg-config lld \
   libeigen3-dev libtbb-dev libopenvdb-dev libboost-iostreams-dev \
   libopencv-dev libassimp-dev libzip-dev nlohmann-json3-dev libcli11-dev \
   libpng-dev libjpeg62-turbo-dev zlib1g-dev \

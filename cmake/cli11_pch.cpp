@@ -1,0 +1,1 @@
+// The translation unit that carries the command lines' CLI11 precompiled header (CMakeLists.txt).
