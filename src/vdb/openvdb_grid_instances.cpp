@@ -3,11 +3,8 @@
 // of vf_vdb then links against these instead of compiling the classes itself.
 #include "vdb/openvdb_extern_grids.h"
 
-template class openvdb::Grid<openvdb::FloatTree>;
-template class openvdb::Grid<openvdb::Vec3STree>;
-template class openvdb::Grid<openvdb::Int32Tree>;
-template class openvdb::Grid<openvdb::MaskTree>;
-template class openvdb::tree::Tree<openvdb::FloatTree::RootNodeType>;
-template class openvdb::tree::Tree<openvdb::Vec3STree::RootNodeType>;
-template class openvdb::tree::Tree<openvdb::Int32Tree::RootNodeType>;
-template class openvdb::tree::Tree<openvdb::MaskTree::RootNodeType>;
+#define VF_INSTANTIATE_GRID_AND_TREE(TreeT) \
+  template class openvdb::Grid<TreeT>;         \
+  template class openvdb::tree::Tree<TreeT::RootNodeType>;
+VF_FOR_EACH_SCENE_TREE(VF_INSTANTIATE_GRID_AND_TREE)
+#undef VF_INSTANTIATE_GRID_AND_TREE
