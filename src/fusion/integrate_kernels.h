@@ -171,8 +171,18 @@ struct IntegrateKernel {
     // the same whichever slot the brick got, so every backend and every run agree.
     const uint64_t voxel_id_base = brickKey(volume.brick_coords[slot]) << (3 * kBrickShift);
     const int64_t first_index = VolumeView::voxelIndex(slot, row * kBrickSize);
+    // The row's projections first, as Intrinsics::project computes them, in a loop of its own
+    // so that the CPU compiler does all eight divisions at once; a lane with z <= 0 is refused
+    // by updateVoxel before its (meaningless) u, v are read.
+    float u[kBrickSize], v[kBrickSize], z[kBrickSize];
+    for (int k = 0; k < kBrickSize; ++k) {
+      const Vec3f p = p0 + step * float(k);
+      z[k] = p.z;
+      u[k] = intrinsics.fx * p.x / p.z + intrinsics.cx;
+      v[k] = intrinsics.fy * p.y / p.z + intrinsics.cy;
+    }
     for (int k = 0; k < kBrickSize; ++k)
-      updateVoxel(first_index + k, voxel_id_base | uint64_t(row * kBrickSize + k), p0 + step * float(k));
+      updateVoxel(first_index + k, voxel_id_base | uint64_t(row * kBrickSize + k), u[k], v[k], z[k]);
   }
 
   // The colour pixel that depth position (u, v) (>= -0.5) falls in; the depth pixel itself when
@@ -183,17 +193,15 @@ struct IntegrateKernel {
     return y * color.width + x;
   }
 
-  // Eq. (11)-(12) for one voxel whose centre is p in camera coordinates.
-  VF_HD void updateVoxel(int64_t index, uint64_t voxel_id, Vec3f p) const {
-    if (p.z <= 0.f) return;
-    float u, v;
-    intrinsics.project(p, u, v);
+  // Eq. (11)-(12) for one voxel whose centre lies at depth z and projects to (u, v).
+  VF_HD void updateVoxel(int64_t index, uint64_t voxel_id, float u, float v, float z) const {
+    if (z <= 0.f) return;
     // Compared as floats first: a voxel just in front of the camera projects far outside.
     if (!(u >= -0.5f && v >= -0.5f && u < float(depth.width) - 0.5f && v < float(depth.height) - 0.5f)) return;
     const int px = int(floorf(u + 0.5f)), py = int(floorf(v + 0.5f));
     const float d = depth(px, py);
     if (!(d >= min_depth_m && d <= max_depth_m)) return;
-    const float sdf = d - p.z;
+    const float sdf = d - z;
     const float trunc = volume.truncation_m;
     if (sdf < -trunc) return;  // behind the surface: unobserved
     const int pixel = py * depth.width + px;
