@@ -14,9 +14,14 @@ struct Intrinsics {
   }
   VF_HD bool project(Vec3f p, float& u, float& v) const {
     if (p.z <= 0.f) return false;
+    projectAnyDepth(p, u, v);
+    return true;
+  }
+  // project() without the z > 0 test, for loops that must stay branch-free to vectorise: u and v
+  // mean nothing where p.z <= 0, and the caller tests p.z itself.
+  VF_HD void projectAnyDepth(Vec3f p, float& u, float& v) const {
     u = fx * p.x / p.z + cx;
     v = fy * p.y / p.z + cy;
-    return true;
   }
   // The camera of an image downsampled by 2^level (pixel centres stay consistent).
   Intrinsics atLevel(int level) const {

@@ -171,15 +171,14 @@ struct IntegrateKernel {
     // the same whichever slot the brick got, so every backend and every run agree.
     const uint64_t voxel_id_base = brickKey(volume.brick_coords[slot]) << (3 * kBrickShift);
     const int64_t first_index = VolumeView::voxelIndex(slot, row * kBrickSize);
-    // The row's projections first, as Intrinsics::project computes them, in a loop of its own
-    // so that the CPU compiler does all eight divisions at once; a lane with z <= 0 is refused
-    // by updateVoxel before its (meaningless) u, v are read.
+    // The row's projections first, in a loop of their own so that the CPU compiler does all
+    // eight divisions at once; a lane with z <= 0 is refused by updateVoxel before its
+    // (meaningless) u, v are read.
     float u[kBrickSize], v[kBrickSize], z[kBrickSize];
     for (int k = 0; k < kBrickSize; ++k) {
       const Vec3f p = p0 + step * float(k);
       z[k] = p.z;
-      u[k] = intrinsics.fx * p.x / p.z + intrinsics.cx;
-      v[k] = intrinsics.fy * p.y / p.z + intrinsics.cy;
+      intrinsics.projectAnyDepth(p, u[k], v[k]);
     }
     for (int k = 0; k < kBrickSize; ++k)
       updateVoxel(first_index + k, voxel_id_base | uint64_t(row * kBrickSize + k), u[k], v[k], z[k]);
