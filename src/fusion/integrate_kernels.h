@@ -1,6 +1,8 @@
 #pragma once
 // Surface reconstruction (KinectFusion section 3.3): projective TSDF update with a weight cap,
 // restricted to the bricks that the current depth can reach.
+#include <cstring>
+
 #include "core/image.h"
 #include "core/intrinsics.h"
 #include "fusion/atomics.h"
@@ -180,8 +182,77 @@ struct IntegrateKernel {
       z[k] = p.z;
       intrinsics.projectAnyDepth(p, u[k], v[k]);
     }
-    for (int k = 0; k < kBrickSize; ++k)
-      updateVoxel(first_index + k, voxel_id_base | uint64_t(row * kBrickSize + k), u[k], v[k], z[k]);
+    if (labels.data) {
+      for (int k = 0; k < kBrickSize; ++k)
+        updateVoxel(first_index + k, voxel_id_base | uint64_t(row * kBrickSize + k), u[k], v[k], z[k]);
+    } else {
+      fuseRow(first_index, u, v, z);
+    }
+  }
+
+  // updateVoxel for a whole row of a frame without labels, written without branches so that
+  // the CPU compiler runs the eight voxels in vector lanes: every lane computes its update and
+  // the lanes that must not change store their old value (a row belongs to one work item, so
+  // rewriting an unchanged voxel is harmless). The same operations per voxel as updateVoxel,
+  // so both give the same bits.
+  VF_HD void fuseRow(int64_t first_index, const float u[kBrickSize], const float v[kBrickSize],
+                     const float z[kBrickSize]) const {
+    // Everything per lane is 32 bits wide (masks as int, a voxel and a colour as one word), so
+    // that one vector holds the row; conditions combine with & rather than && (no branch per
+    // lane). The image reads get loops of their own: the compiler does not gather for this
+    // target, but vectorises the arithmetic around them.
+    const float trunc = volume.truncation_m;
+    float uk[kBrickSize], vk[kBrickSize], d[kBrickSize], sdf[kBrickSize];
+    int in_image[kBrickSize], pixel[kBrickSize], fuse[kBrickSize], near_surface[kBrickSize];
+    for (int k = 0; k < kBrickSize; ++k) {
+      in_image[k] = (z[k] > 0.f) & (u[k] >= -0.5f) & (v[k] >= -0.5f) & (u[k] < float(depth.width) - 0.5f) &
+                    (v[k] < float(depth.height) - 0.5f);
+      uk[k] = in_image[k] ? u[k] : 0.f;  // finite where refused, so the pixel below is in the image
+      vk[k] = in_image[k] ? v[k] : 0.f;
+      pixel[k] = int(floorf(vk[k] + 0.5f)) * depth.width + int(floorf(uk[k] + 0.5f));
+    }
+    for (int k = 0; k < kBrickSize; ++k) d[k] = depth[pixel[k]];
+    for (int k = 0; k < kBrickSize; ++k) {
+      const int valid = in_image[k] & (d[k] >= min_depth_m) & (d[k] <= max_depth_m);
+      sdf[k] = valid ? d[k] - z[k] : trunc;
+      fuse[k] = valid & !(sdf[k] < -trunc);  // behind the surface: unobserved
+      near_surface[k] = fuse[k] & (sdf[k] < trunc);
+    }
+    static_assert(sizeof(TsdfVoxel) == 4 && sizeof(Rgb8) == 4, "a voxel and a colour are one word each");
+    TsdfVoxel* voxels = volume.tsdf + first_index;
+    for (int k = 0; k < kBrickSize; ++k) {
+      int32_t word;  // tsdf in the low half, weight in the high half (little-endian)
+      memcpy(&word, voxels + k, 4);
+      const int old_weight = int(uint32_t(word) >> 16);
+      const float tsdf = sdf[k] < trunc ? sdf[k] / trunc : 1.f;
+      const float w = float(old_weight);
+      const int old_tsdf = int32_t(uint32_t(word) << 16) >> 16;  // sign-extends the low half
+      const float fused = (float(old_tsdf) * w + tsdf * kTsdfScale) / (w + 1.f);
+      const int new_tsdf = int(clampFloat(rintf(fused), -kTsdfScale, kTsdfScale));
+      const int new_weight = old_weight < max_weight ? old_weight + 1 : old_weight;
+      const int32_t fused_word = int32_t((uint32_t(new_tsdf) & 0xFFFFu) | uint32_t(new_weight) << 16);
+      word = fuse[k] ? fused_word : word;
+      memcpy(voxels + k, &word, 4);
+    }
+    if (!color.data) return;
+    int32_t in[kBrickSize];
+    for (int k = 0; k < kBrickSize; ++k) pixel[k] = colorPixel(uk[k], vk[k]);
+    for (int k = 0; k < kBrickSize; ++k) memcpy(in + k, color.data + pixel[k], 4);
+    Rgb8* colors = volume.color + first_index;
+    for (int k = 0; k < kBrickSize; ++k) {
+      int32_t old;  // r, g, b, a from the low byte up
+      memcpy(&old, colors + k, 4);
+      const int count = int(uint32_t(old) >> 24);
+      const float cw = float(count);
+      const float inv = 1.f / (cw + 1.f);
+      const int r = int(rintf((float(old & 0xFF) * cw + float(in[k] & 0xFF)) * inv));
+      const int g = int(rintf((float((old >> 8) & 0xFF) * cw + float((in[k] >> 8) & 0xFF)) * inv));
+      const int b = int(rintf((float((old >> 16) & 0xFF) * cw + float((in[k] >> 16) & 0xFF)) * inv));
+      const int a = count < 254 ? count + 1 : count;
+      const int32_t blended = int32_t(uint32_t(r) | uint32_t(g) << 8 | uint32_t(b) << 16 | uint32_t(a) << 24);
+      const int32_t word = near_surface[k] ? blended : old;
+      memcpy(colors + k, &word, 4);
+    }
   }
 
   // The colour pixel that depth position (u, v) (>= -0.5) falls in; the depth pixel itself when
