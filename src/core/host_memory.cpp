@@ -1,5 +1,7 @@
 #include "core/host_memory.h"
 
+#include <sys/mman.h>
+
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -23,6 +25,14 @@ std::optional<HostMemory> readHostMemory() {
   }
   if (!total || !available) return std::nullopt;
   return m;
+}
+
+void adviseHugePages(void* p, size_t bytes) {
+#ifdef MADV_HUGEPAGE
+  madvise(p, bytes, MADV_HUGEPAGE);
+#else
+  (void)p, (void)bytes;
+#endif
 }
 
 }  // namespace vf
