@@ -152,6 +152,7 @@ bool Pipeline::integrate() {
   IntegrateKernel kernel;
   kernel.volume = volume.view();
   kernel.slots = volume.frameSlots();
+  kernel.slot_count = touched;
   kernel.depth = has_labels_ ? constView(b.raw_depth) : depth;
   if (has_color_) {
     kernel.color = color_full_ ? constView(b.color_full) : constView(b.color);
