@@ -210,7 +210,9 @@ void Pipeline::raycast(const Pose& T_world_cam, bool with_color, int level) {
   ray.range_min = b.range_min.data();
   ray.range_max = b.range_max.data();
   ray.tiles_x = tiles_x;
-  parallelFor(device_, camera.width * camera.height, ray);
+  ray.rays_per_item = device_ == Device::Cuda ? 1 : RaycastKernel::kMaxRaysPerItem;
+  const int pixels = camera.width * camera.height;
+  parallelFor(device_, (pixels + ray.rays_per_item - 1) / ray.rays_per_item, ray);
   if (with_color) {
     parallelFor(device_, camera.width * camera.height,
                 IntensityKernel{ImageView<const Rgb8>{color.data, color.width, color.height},

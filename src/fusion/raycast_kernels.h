@@ -131,7 +131,40 @@ struct RaycastKernel {
     return t;
   }
 
-  VF_HD void operator()(int i) const {
+  // Rays marched together by one work item. Each step of a ray waits for a voxel read from
+  // anywhere in the pool (a cache miss, most of the raycast's time); stepping several rays in
+  // turn keeps that many reads in flight at once. The rays do not interact, so each gives the
+  // same result whatever the count: the CPU uses kMaxRaysPerItem, CUDA one ray per thread.
+  static constexpr int kMaxRaysPerItem = 4;
+  int rays_per_item = 1;
+
+  // One pixel's march: t in voxels along the unit ray o + d t, up to t_end.
+  struct Ray {
+    Vec3f o, d;
+    float t, t_end, prev_t;
+    bool have_prev;
+    Vec3i brick;  // the brick of the last lookup and its slot (-2: nothing looked up yet)
+    int slot;
+    int pixel;
+  };
+
+  VF_HD void operator()(int item) const {
+    Ray rays[kMaxRaysPerItem];
+    bool active[kMaxRaysPerItem];
+    const int pixels = vertex.width * vertex.height;
+    for (int k = 0; k < rays_per_item; ++k) {
+      const int i = item * rays_per_item + k;
+      active[k] = i < pixels && begin(i, rays[k]);
+    }
+    for (bool any = true; any;) {
+      any = false;
+      for (int k = 0; k < rays_per_item; ++k)
+        if (active[k]) any |= active[k] = advance(rays[k]);
+    }
+  }
+
+  // Clears pixel i's outputs and sets up its ray; false when no allocated brick projects there.
+  VF_HD bool begin(int i, Ray& r) const {
     const int x = i % vertex.width, y = i / vertex.width;
     normal[i] = Vec3f{0.f, 0.f, 0.f};
     vertex[i] = Vec3f{0.f, 0.f, 0.f};
@@ -139,64 +172,70 @@ struct RaycastKernel {
     // March in voxel units: o and d in voxel coordinates, t in voxels along a unit voxel ray.
     const Vec3f ray_world = T_world_cam.rotate(normalized(intrinsics.backProject(float(x), float(y), 1.f)));
     const float inv_voxel = 1.f / volume.voxel_size_m;
-    const Vec3f o = volume.toVoxel(T_world_cam.t);
-    const Vec3f d = ray_world;
-    float t = near_m * inv_voxel, t_end = far_m * inv_voxel;
+    r.o = volume.toVoxel(T_world_cam.t);
+    r.d = ray_world;
+    r.t = near_m * inv_voxel;
+    r.t_end = far_m * inv_voxel;
     const int tile = (y / kRangeTilePx) * tiles_x + x / kRangeTilePx;
     const float z_lo = range_min[tile], z_hi = range_max[tile];
-    if (z_lo > z_hi) return;  // no allocated brick projects here
+    if (z_lo > z_hi) return false;  // no allocated brick projects here
     // Depth z along this pixel's ray is t * |ray_cam| with ray_cam = (.., .., 1); one voxel of slack.
     const float z_to_t = norm(intrinsics.backProject(float(x), float(y), 1.f)) * inv_voxel;
-    t = fmaxf(t, z_lo * z_to_t - 1.f);
-    t_end = fminf(t_end, z_hi * z_to_t + 1.f);
-    const float trunc_vox = volume.truncation_m * inv_voxel;
-    const float unobserved_step = fmaxf(min_step_vox, 0.5f * trunc_vox);
-    // Coarse march on single nearest-voxel reads (one load each); the trilinear field is only
-    // evaluated once a sign change is bracketed.
-    float prev_t = 0.f;
-    bool have_prev = false;
-    Vec3i current_brick{0, 0, 0};
-    int current_slot = -2;  // -2: nothing looked up yet
-    while (t < t_end) {
-      const Vec3f g = o + d * t;
-      const int ix = int(floorf(g.x + 0.5f)), iy = int(floorf(g.y + 0.5f)), iz = int(floorf(g.z + 0.5f));
-      const Vec3i brick = brickOfVoxel(ix, iy, iz);
-      if (current_slot == -2 || brick.x != current_brick.x || brick.y != current_brick.y || brick.z != current_brick.z) {
-        current_brick = brick;  // look a brick up once, not at every step inside it
-        current_slot = volume.hash.slotOf(brick);
-      }
-      if (current_slot < 0) {
-        // Never advance less than a regular step: a ray grazing a brick face would otherwise
-        // creep along it in tiny increments.
-        const float t_exit = brickExit(o, d, brick.x, brick.y, brick.z);
-        t = t_exit > t + min_step_vox ? t_exit + 0.01f : t + min_step_vox;
-        have_prev = false;
-        continue;
-      }
-      const TsdfVoxel v = volume.tsdf[VolumeView::voxelIndex(current_slot, localVoxelIndex(ix, iy, iz))];
-      if (v.weight == 0) {
-        // Unobserved: no surface within half a truncation band can start here unseen, since
-        // every fused surface is preceded by a full band of positive voxels.
-        t += unobserved_step;
-        have_prev = false;
-        continue;
-      }
-      const float sdf = float(v.tsdf) * (trunc_vox / kTsdfScale);  // voxels
-      if (sdf <= 0.f) {
-        if (!have_prev) {  // entered behind a surface (or a back face): keep looking
-          t += min_step_vox;
-          continue;
-        }
-        if (refineCrossing(o, d, prev_t, t + 1.f, i)) return;
-        have_prev = false;  // no trilinear crossing here after all: move on
-        t += min_step_vox;
-        continue;
-      }
-      prev_t = t;
-      have_prev = true;
-      const float step = sdf * step_fraction;
-      t += step > min_step_vox ? step : min_step_vox;
+    r.t = fmaxf(r.t, z_lo * z_to_t - 1.f);
+    r.t_end = fminf(r.t_end, z_hi * z_to_t + 1.f);
+    r.prev_t = 0.f;
+    r.have_prev = false;
+    r.brick = Vec3i{0, 0, 0};
+    r.slot = -2;
+    r.pixel = i;
+    return true;
+  }
+
+  // One step of the coarse march on single nearest-voxel reads (one load each); the trilinear
+  // field is only evaluated once a sign change is bracketed. False once the ray is done: it hit
+  // (outputs written) or left its range.
+  VF_HD bool advance(Ray& r) const {
+    if (!(r.t < r.t_end)) return false;
+    const Vec3f g = r.o + r.d * r.t;
+    const int ix = int(floorf(g.x + 0.5f)), iy = int(floorf(g.y + 0.5f)), iz = int(floorf(g.z + 0.5f));
+    const Vec3i brick = brickOfVoxel(ix, iy, iz);
+    if (r.slot == -2 || brick.x != r.brick.x || brick.y != r.brick.y || brick.z != r.brick.z) {
+      r.brick = brick;  // look a brick up once, not at every step inside it
+      r.slot = volume.hash.slotOf(brick);
     }
+    if (r.slot < 0) {
+      // Never advance less than a regular step: a ray grazing a brick face would otherwise
+      // creep along it in tiny increments.
+      const float t_exit = brickExit(r.o, r.d, brick.x, brick.y, brick.z);
+      r.t = t_exit > r.t + min_step_vox ? t_exit + 0.01f : r.t + min_step_vox;
+      r.have_prev = false;
+      return true;
+    }
+    const float trunc_vox = volume.truncation_m * (1.f / volume.voxel_size_m);
+    const TsdfVoxel v = volume.tsdf[VolumeView::voxelIndex(r.slot, localVoxelIndex(ix, iy, iz))];
+    if (v.weight == 0) {
+      // Unobserved: no surface within half a truncation band can start here unseen, since
+      // every fused surface is preceded by a full band of positive voxels.
+      r.t += fmaxf(min_step_vox, 0.5f * trunc_vox);
+      r.have_prev = false;
+      return true;
+    }
+    const float sdf = float(v.tsdf) * (trunc_vox / kTsdfScale);  // voxels
+    if (sdf <= 0.f) {
+      if (!r.have_prev) {  // entered behind a surface (or a back face): keep looking
+        r.t += min_step_vox;
+        return true;
+      }
+      if (refineCrossing(r.o, r.d, r.prev_t, r.t + 1.f, r.pixel)) return false;
+      r.have_prev = false;  // no trilinear crossing here after all: move on
+      r.t += min_step_vox;
+      return true;
+    }
+    r.prev_t = r.t;
+    r.have_prev = true;
+    const float step = sdf * step_fraction;
+    r.t += step > min_step_vox ? step : min_step_vox;
+    return true;
   }
 
   // The crossing between t_a (in front) and t_b (behind), both from coarse nearest-voxel reads.
