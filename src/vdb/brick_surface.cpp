@@ -2,7 +2,10 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
+#include <numeric>
 #include <unordered_map>
+#include <vector>
 
 #include "vdb/surface_point.h"
 
@@ -48,11 +51,22 @@ TriangleMesh brickSurfaceSamples(const BrickVolumeView& v, int keep_one_in) {
     return t.weight > 0;
   };
 
+  // Bricks in the order of their coordinates, not of their pool slots: slots are handed out
+  // in whatever order the threads of integration got to them, and the samples' order decides
+  // what a later fit (the floor plane) picks, which then differed from run to run.
+  std::vector<size_t> order(v.brick_count);
+  std::iota(order.begin(), order.end(), size_t(0));
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    const Vec3i& p = v.coords[a];
+    const Vec3i& q = v.coords[b];
+    return p.z != q.z ? p.z < q.z : p.y != q.y ? p.y < q.y : p.x < q.x;
+  });
   std::vector<TriangleMesh> parts((v.brick_count + kBricksPerTask - 1) / kBricksPerTask);
   tbb::parallel_for(size_t(0), parts.size(), [&](size_t task) {
     TriangleMesh& out = parts[task];
     const size_t end = std::min(v.brick_count, (task + 1) * kBricksPerTask);
-    for (size_t n = task * kBricksPerTask; n < end; ++n) {
+    for (size_t k = task * kBricksPerTask; k < end; ++k) {
+      const size_t n = order[k];
       const Vec3i b = v.coords[n];
       for (int i = 0; i < kBrickVoxels; ++i) {
         const TsdfVoxel t = v.tsdf[n * kBrickVoxels + size_t(i)];

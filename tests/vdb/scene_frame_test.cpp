@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "core/error.h"
 #include "fusion/pipeline.h"
@@ -90,6 +91,37 @@ TEST(SurfaceSamples, FromBricksAreTheScenePointCloudsPointsAndAQuarterOfThemOnRe
   EXPECT_EQ(differing, 0u);
   const size_t quarter = brickSurfaceSamples(volume.view(), 4).positions.size();
   EXPECT_NEAR(double(quarter), a.size() / 4.0, a.size() * 0.02);
+}
+
+TEST(SurfaceSamples, DoNotDependOnWhichPoolSlotEachBrickGot) {
+  // Integration hands out slots in whatever order its threads reach the bricks; the samples
+  // (and the floor plane fitted to them) must come out the same, in the same order.
+  test::SyntheticVolume volume(test::sphereSpec(64, 0.02f), false);
+  test::fillSdf(volume, [&](Vec3f p) { return std::min(0.3f - p.y, norm(p - Vec3f{0.1f, 0.f, 0.f}) - 0.3f); }, 0.f);
+  const BrickVolumeView v = volume.view();
+  ASSERT_GT(v.brick_count, 100u);
+  std::vector<size_t> slot_of(v.brick_count);  // a fixed shuffle: reversed, odd slots first
+  size_t next = 0;
+  for (int odd = 1; odd >= 0; --odd)
+    for (size_t n = v.brick_count; n-- > 0;)
+      if (int(n % 2) == odd) slot_of[n] = next++;
+  std::vector<Vec3i> coords(v.brick_count);
+  std::vector<TsdfVoxel> tsdf(v.brick_count * kBrickVoxels);
+  for (size_t n = 0; n < v.brick_count; ++n) {
+    coords[slot_of[n]] = v.coords[n];
+    std::copy(v.tsdf + n * kBrickVoxels, v.tsdf + (n + 1) * kBrickVoxels, tsdf.begin() + slot_of[n] * kBrickVoxels);
+  }
+  BrickVolumeView shuffled = v;
+  shuffled.coords = coords.data();
+  shuffled.tsdf = tsdf.data();
+  shuffled.color = nullptr;
+  const TriangleMesh a = brickSurfaceSamples(v, 4), b = brickSurfaceSamples(shuffled, 4);
+  ASSERT_GT(a.positions.size(), 1000u);
+  ASSERT_EQ(a.positions.size(), b.positions.size());
+  size_t differing = 0;
+  for (size_t i = 0; i < a.positions.size(); ++i)
+    differing += lessPoint(a.positions[i], b.positions[i]) || lessPoint(b.positions[i], a.positions[i]);
+  EXPECT_EQ(differing, 0u);
 }
 
 TEST(SceneUp, WithoutAFloorTheCamerasMeanUpIsUsed) {
