@@ -50,7 +50,7 @@ step "evaluate: vdbfuse evaluate --trajectory trajectory.txt --groundtruth room/
   || fail "vdbfuse evaluate failed"
 
 step "mesh: vdbfuse mesh scene.vdb --axes camera -o mesh.ply (the frame of the trajectory)"
-"$VF" mesh "$OUT/scene.vdb" --axes camera -o "$OUT/mesh.ply" | tail -n 3 || fail "vdbfuse mesh failed"
+"$VF" mesh "$OUT/scene.vdb" --axes camera -o "$OUT/mesh.ply" -f | tail -n 3 || fail "vdbfuse mesh failed"
 
 step "completion: vdbfuse-synth-room --evaluate mesh.ply --trajectory trajectory.txt --frames $FRAMES"
 "$ROOM_TOOL" --evaluate "$OUT/mesh.ply" --trajectory "$OUT/trajectory.txt" --frames "$FRAMES" | tee "$OUT/completion.txt" \
