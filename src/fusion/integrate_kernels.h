@@ -28,14 +28,32 @@ struct MarkBricksKernel {
   int* overflow;           // set when the hash table is too full for an insert
   int stride_px = 2;
   float step_vox = 2.f;
+  // Strided pixels per work item, a square tile_px on a side. Neighbouring pixels reach the
+  // same bricks over and over (at 1 m a brick covers ~150 strided pixels); a tile remembers the
+  // bricks it touched last, and only the others go to the hash table. The CPU takes 8 x 8
+  // pixels per item; CUDA, which wants many threads, one.
+  int tile_px = 1;
   // A band is a few voxels deep; the cap only guards against absurd parameters, so that a
   // step below float precision can never loop for ever.
   static constexpr int kMaxSteps = 256;
+  static constexpr int kRecentBricks = 32;  // direct-mapped by brick coordinates
 
-  VF_HD void operator()(int i) const {
-    const int cols = (depth.width + stride_px - 1) / stride_px;
-    const int x = (i % cols) * stride_px, y = (i / cols) * stride_px;
-    if (y >= depth.height) return;
+  VF_HD int columns() const { return (depth.width + stride_px - 1) / stride_px; }
+  VF_HD int rows() const { return (depth.height + stride_px - 1) / stride_px; }
+  VF_HD int itemCount() const {
+    return ((columns() + tile_px - 1) / tile_px) * ((rows() + tile_px - 1) / tile_px);
+  }
+
+  VF_HD void operator()(int item) const {
+    uint64_t recent[kRecentBricks];
+    for (int k = 0; k < kRecentBricks; ++k) recent[k] = kEmptyBrickKey;
+    const int tiles_x = (columns() + tile_px - 1) / tile_px;
+    const int c0 = (item % tiles_x) * tile_px, r0 = (item / tiles_x) * tile_px;
+    for (int r = r0; r < r0 + tile_px && r < rows(); ++r)
+      for (int c = c0; c < c0 + tile_px && c < columns(); ++c) markPixel(c * stride_px, r * stride_px, recent);
+  }
+
+  VF_HD void markPixel(int x, int y, uint64_t* recent) const {
     const float d = depth(x, y);
     if (!(d >= min_depth_m && d <= max_depth_m)) return;  // also refuses NaN
     const float trunc = volume.truncation_m;
@@ -52,9 +70,6 @@ struct MarkBricksKernel {
     const float dz = step_vox * volume.voxel_size_m / norm(ray_cam);
     const float span = (z_end - z_begin) / dz;
     const int steps = span < float(kMaxSteps) ? int(span + 0.5f) + 1 : kMaxSteps;
-    // Successive boxes overlap (a step is a fraction of a brick): a brick the previous box
-    // already touched is skipped, which halves the hash inserts and changes no result.
-    Vec3i prev_lo{1, 1, 1}, prev_hi{0, 0, 0};  // empty
     for (int s = 0; s <= steps; ++s) {
       const float z = z_begin + float(s) * dz;
       const Vec3f p = volume.toVoxel(T_world_cam * (ray_cam * z));
@@ -63,12 +78,14 @@ struct MarkBricksKernel {
       for (int bz = lo.z; bz <= hi.z; ++bz)
         for (int by = lo.y; by <= hi.y; ++by)
           for (int bx = lo.x; bx <= hi.x; ++bx) {
-            const bool seen = bx >= prev_lo.x && bx <= prev_hi.x && by >= prev_lo.y && by <= prev_hi.y &&
-                              bz >= prev_lo.z && bz <= prev_hi.z;
-            if (!seen) touch(Vec3i{bx, by, bz});
+            // Touching a brick twice changes nothing, so forgetting one (a collision) is harmless.
+            const Vec3i b{bx, by, bz};
+            const uint64_t key = brickKey(b);
+            uint64_t& remembered = recent[uint32_t(bx * 7 + by * 13 + bz * 29) % kRecentBricks];
+            if (remembered == key) continue;
+            remembered = key;
+            touch(b);
           }
-      prev_lo = lo;
-      prev_hi = hi;
     }
   }
 

@@ -145,7 +145,8 @@ bool Pipeline::integrate() {
     mark.frame_entries = volume.frameEntries();
     mark.frame_count = volume.frameCount();
     mark.overflow = volume.overflowFlag();
-    parallelFor(device_, stridedPixelCount(intrinsics_.width, intrinsics_.height, mark.stride_px), mark);
+    mark.tile_px = device_ == Device::Cuda ? 1 : 8;
+    parallelFor(device_, mark.itemCount(), mark);
   } while (volume.growIfOverflowed());
   const int touched = volume.assignSlots();
 
