@@ -136,7 +136,7 @@ struct RaycastKernel {
   // turn keeps that many reads in flight at once. The rays do not interact, so each gives the
   // same result whatever the count: the CPU uses kMaxRaysPerItem, CUDA one ray per thread.
   static constexpr int kMaxRaysPerItem = 4;
-  int rays_per_item = 1;
+  int rays_per_item = 1;  // 1 .. kMaxRaysPerItem
 
   // One pixel's march: t in voxels along the unit ray o + d t, up to t_end.
   struct Ray {
