@@ -1,6 +1,9 @@
 #pragma once
 // Runs a per-element functor (a struct with `VF_HD void operator()(int i) const`) on the chosen
 // backend. The functor is the single definition of the rule; TBB and CUDA merely iterate it.
+// A work item may cover several elements where that pays on the CPU (RaycastKernel's
+// rays_per_item, MarkBricksKernel's tile_px): the host sets the count from the device, and no
+// element's result depends on it.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
