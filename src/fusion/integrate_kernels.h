@@ -40,15 +40,13 @@ struct MarkBricksKernel {
 
   VF_HD int columns() const { return (depth.width + stride_px - 1) / stride_px; }
   VF_HD int rows() const { return (depth.height + stride_px - 1) / stride_px; }
-  VF_HD int itemCount() const {
-    return ((columns() + tile_px - 1) / tile_px) * ((rows() + tile_px - 1) / tile_px);
-  }
+  VF_HD int tilesX() const { return (columns() + tile_px - 1) / tile_px; }
+  VF_HD int itemCount() const { return tilesX() * ((rows() + tile_px - 1) / tile_px); }
 
   VF_HD void operator()(int item) const {
     uint64_t recent[kRecentBricks];
     for (int k = 0; k < kRecentBricks; ++k) recent[k] = kEmptyBrickKey;
-    const int tiles_x = (columns() + tile_px - 1) / tile_px;
-    const int c0 = (item % tiles_x) * tile_px, r0 = (item / tiles_x) * tile_px;
+    const int c0 = (item % tilesX()) * tile_px, r0 = (item / tilesX()) * tile_px;
     for (int r = r0; r < r0 + tile_px && r < rows(); ++r)
       for (int c = c0; c < c0 + tile_px && c < columns(); ++c) markPixel(c * stride_px, r * stride_px, recent);
   }
