@@ -47,6 +47,21 @@ inline std::string runCommand(const std::string& command, int& status) {
   return out;
 }
 
+// `command` wrapped for xvfb-run (the path to it): run in a shell under a fresh virtual X server
+// that prints its own exit status last, for xvfbExitStatus to read. xvfb-run's status cannot be
+// trusted: it returns 5 of its own when removing its temp folder fails (seen with parallel runs).
+inline std::string underXvfb(const std::string& xvfb_run, const std::string& command) {
+  std::string quoted = "'";
+  for (const char c : command + "; echo vf_exit=$?") quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return xvfb_run + " -a -s '-screen 0 1280x1024x24' sh -c " + quoted + "'";
+}
+
+// The exit status underXvfb's command printed, or -1 when it printed none (X did not start).
+inline int xvfbExitStatus(const std::string& output) {
+  const size_t at = output.rfind("vf_exit=");
+  return at == std::string::npos ? -1 : std::atoi(output.c_str() + at + 8);
+}
+
 inline std::string tempDir(const std::string& name) {
   auto dir = std::filesystem::temp_directory_path() / ("vdbfuse_test_" + name);
   std::filesystem::remove_all(dir);

@@ -118,16 +118,19 @@ TEST_F(FullDiskTest, ViewScreenshot) {
   const auto before = test::snapshot(dir_);
   int status = 0;
   const std::string output = test::runCommand(
-      "xvfb-run -a sh -c \"trap '' XFSZ; ulimit -f " + std::to_string(kSmallDisk / 512) + "; " + viewer + " " + scene_ +
-          " --screenshot " + shot + " --force --size 320x240\"",
+      test::underXvfb("/usr/bin/xvfb-run", "trap '' XFSZ; ulimit -f " + std::to_string(kSmallDisk / 512) + "; " +
+                                               viewer + " " + scene_ + " --screenshot " + shot +
+                                               " --force --size 320x240"),
       status);
-  EXPECT_EQ(WEXITSTATUS(status), 1) << output;
+  EXPECT_EQ(test::xvfbExitStatus(output), 1) << output;
   EXPECT_NE(output.find(shot), std::string::npos) << output;
   EXPECT_EQ(output.find("wrote " + shot), std::string::npos) << output;
   EXPECT_EQ(test::temporariesUnder(dir_), std::vector<std::string>{});
   EXPECT_EQ(test::changedFiles(before, test::snapshot(dir_)), std::vector<std::string>{});
-  test::runCommand("xvfb-run -a " + viewer + " " + scene_ + " --screenshot " + shot + " --force --size 320x240", status);
-  EXPECT_EQ(WEXITSTATUS(status), 0) << "the same screenshot with room on the disk";
+  const std::string roomy = test::runCommand(
+      test::underXvfb("/usr/bin/xvfb-run", viewer + " " + scene_ + " --screenshot " + shot + " --force --size 320x240"),
+      status);
+  EXPECT_EQ(test::xvfbExitStatus(roomy), 0) << "the same screenshot with room on the disk:\n" << roomy;
 }
 
 }  // namespace

@@ -40,13 +40,9 @@ RunResult runCommand(const std::string& command) {
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ss.str()};
 }
 
-// `command` under a fresh virtual X server. Its exit status is echoed from inside: xvfb-run
-// returns its own when cleaning up its temp folder fails (seen with parallel test runs).
 RunResult underXvfb(const std::string& command) {
-  const std::string quoted = "'" + command + "; echo vf_exit=$?'";
-  RunResult r = runCommand(std::string(VF_XVFB_RUN) + " -a -s '-screen 0 1280x1024x24' sh -c " + quoted);
-  const size_t at = r.output.rfind("vf_exit=");
-  r.exit_code = at == std::string::npos ? -1 : std::atoi(r.output.c_str() + at + 8);
+  RunResult r = runCommand(test::underXvfb(VF_XVFB_RUN, command));
+  r.exit_code = test::xvfbExitStatus(r.output);
   return r;
 }
 
