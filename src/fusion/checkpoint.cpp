@@ -15,7 +15,8 @@ namespace vf {
 namespace {
 
 constexpr char kMagic[16] = {'V', 'D', 'B', 'F', 'U', 'S', 'E', '-', 'C', 'K', 'P', 'T', '\n', 0, 0, 0};
-constexpr uint32_t kVersion = 2;  // 1: dense volume with a text annotation block
+// 1: dense volume with a text annotation block; 2: sparse bricks; 3: the prediction window.
+constexpr uint32_t kVersion = 3;
 
 uint64_t fnv1a(const uint8_t* p, size_t n, uint64_t h = 1469598103934665603ull) {
   for (size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
@@ -128,6 +129,13 @@ void writeCheckpoint(const std::string& path, Pipeline& pipeline, const RunProgr
   w.pose(s.T_world_cam);
   w.pose(s.T_world_model);
   w.pod<uint8_t>(s.has_prediction ? 1 : 0);
+  w.pod<uint8_t>(s.prediction_windowed ? 1 : 0);
+  if (s.prediction_windowed) {
+    const Image<float> window = pipeline.predictionWindow();
+    w.pod<int32_t>(window.width());
+    w.pod<int32_t>(window.height());
+    w.bytes(window.data(), size_t(window.width()) * window.height() * sizeof(float));
+  }
   w.pod<uint8_t>(s.last_given_pose ? 1 : 0);
   w.pose(s.last_given_pose.value_or(Pose::Identity()));
 
@@ -205,6 +213,18 @@ RunProgress readCheckpoint(const std::string& path, Pipeline& pipeline, const Ru
   s.T_world_cam = readPose(r);
   s.T_world_model = readPose(r);
   s.has_prediction = r.read<uint8_t>("prediction flag") != 0;
+  s.prediction_windowed = r.read<uint8_t>("prediction window flag") != 0;
+  Image<float> window;
+  if (s.prediction_windowed) {
+    const int32_t width = r.read<int32_t>("prediction window width");
+    const int32_t height = r.read<int32_t>("prediction window height");
+    if (width <= 0 || height <= 0 || width > 16384 || height > 16384 ||
+        uint64_t(width) * uint64_t(height) * sizeof(float) > r.remaining())
+      r.fail("a prediction window of " + std::to_string(width) + "x" + std::to_string(height) + " pixels is impossible");
+    window.resize(width, height);
+    std::memcpy(window.data(), r.take(size_t(width) * height * sizeof(float), "prediction window"),
+                size_t(width) * height * sizeof(float));
+  }
   const bool has_given = r.read<uint8_t>("recorded pose flag") != 0;
   const Pose given = readPose(r);
   if (has_given) s.last_given_pose = given;
@@ -240,7 +260,7 @@ RunProgress readCheckpoint(const std::string& path, Pipeline& pipeline, const Ru
     std::memcpy(bricks.class_vote.data(), r.take(voxels * sizeof(uint32_t), "class votes"), voxels * sizeof(uint32_t));
   if (!r.atEnd()) throw Error("checkpoint " + path + " has trailing bytes (written by another version?)");
   try {
-    pipeline.restore(s, bricks);
+    pipeline.restore(s, bricks, window);
   } catch (const Error& e) {
     throw Error("checkpoint " + path + ": " + e.what());
   }

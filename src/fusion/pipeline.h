@@ -50,6 +50,9 @@ struct PipelineState {
   Pose T_world_cam = Pose::Identity();
   Pose T_world_model = Pose::Identity();  // camera the tracking prediction was raycast from
   bool has_prediction = false;
+  // The prediction was windowed by the depth of the frame fused from its camera (see
+  // Pipeline::raycastForTracking); a checkpoint then saves that depth, predictionWindow().
+  bool prediction_windowed = false;
   std::optional<Pose> last_given_pose;    // GivenIcp: the recorded pose of the previous frame
 };
 
@@ -93,8 +96,12 @@ class Pipeline {
   // Checkpoints (fusion/checkpoint.h): the state to save, and a restore into a pipeline that has
   // processed no frame yet. Restoring raycasts the tracking prediction again from the saved pose,
   // exactly as the last processFrame() left it.
+  // A windowed prediction (state().prediction_windowed) also needs the depth that windowed it:
+  // predictionWindow() is that image, and restore() takes it back (without it, as when a state
+  // is restored only to render the bricks, the prediction is raycast without a window).
   const PipelineState& state() const { return state_; }
-  void restore(const PipelineState& state, const HostBrickVolume& bricks);
+  Image<float> predictionWindow() const;
+  void restore(const PipelineState& state, const HostBrickVolume& bricks, const Image<float>& window = {});
 
  private:
   struct Buffers;
@@ -105,10 +112,12 @@ class Pipeline {
   IcpSolution solveIcp(const Pose& initial_guess);
   FrameResult judgeTracking(const IcpSolution& solution) const;
   bool integrate();  // false when the pool was full for some of the frame's bricks
-  void raycast(const Pose& T_world_cam, bool with_color, int level);
+  // window: look for surfaces only near depth[level] (RaycastKernel::window_depth).
+  void raycast(const Pose& T_world_cam, bool with_color, int level, bool window = false);
   // The model prediction tracking uses: a raycast from the current pose, which becomes
-  // state_.T_world_model.
-  void raycastForTracking();
+  // state_.T_world_model. windowed: the current frame was fused from this pose, and its depth
+  // bounds the rays (see the definition).
+  void raycastForTracking(bool windowed);
   bool photometricActive() const;
 
   PipelineParams params_;

@@ -116,6 +116,10 @@ struct RaycastKernel {
   const float* range_min = nullptr;  // per tile camera-depth bounds (BrickRangeKernel)
   const float* range_max = nullptr;
   int tiles_x = 0;
+  // Optional (data may be null): a depth image of this camera and level. Where it holds a
+  // depth d, the ray only looks for a surface within [d - window_m, d + window_m].
+  ImageView<const float> window_depth;
+  float window_m = 0.f;
 
   // Ray parameter where the ray leaves brick (bx, by, bz).
   VF_HD static float brickExit(Vec3f o, Vec3f d, int bx, int by, int bz) {
@@ -183,6 +187,14 @@ struct RaycastKernel {
     const float z_to_t = norm(intrinsics.backProject(float(x), float(y), 1.f)) * inv_voxel;
     r.t = fmaxf(r.t, z_lo * z_to_t - 1.f);
     r.t_end = fminf(r.t_end, z_hi * z_to_t + 1.f);
+    if (window_depth.data) {
+      const float d = window_depth[i];
+      if (d > 0.f) {
+        r.t = fmaxf(r.t, (d - window_m) * z_to_t);
+        r.t_end = fminf(r.t_end, (d + window_m) * z_to_t);
+        if (!(r.t < r.t_end)) return false;
+      }
+    }
     r.prev_t = 0.f;
     r.have_prev = false;
     r.brick = Vec3i{0, 0, 0};
