@@ -45,40 +45,50 @@ const BilinearWeights& bilinearWeights() {
   return weights;
 }
 
-// Nearest neighbour; outside the image: `outside` (constant border) or the nearest edge pixel.
+// The input pixel nearest to the sample (x, y); outside the image: -1, or with `replicate` the
+// nearest edge pixel.
+int32_t nearestSource(float x, float y, int width, int height, bool replicate) {
+  const int sx = saturateShort(roundToInt(x)), sy = saturateShort(roundToInt(y));
+  if (unsigned(sx) < unsigned(width) && unsigned(sy) < unsigned(height)) return sy * width + sx;
+  return replicate ? clampIndex(sy, height) * width + clampIndex(sx, width) : -1;
+}
+
 template <class T>
-void remapNearest(const T* src, T* dst, int width, int height, const float* map_x, const float* map_y, bool replicate,
-                  T outside) {
-  for (size_t i = 0; i < size_t(width) * height; ++i) {
-    int sx = saturateShort(roundToInt(map_x[i])), sy = saturateShort(roundToInt(map_y[i]));
-    if (unsigned(sx) < unsigned(width) && unsigned(sy) < unsigned(height)) {
-      dst[i] = src[size_t(sy) * width + sx];
-    } else if (replicate) {
-      dst[i] = src[size_t(clampIndex(sy, height)) * width + clampIndex(sx, width)];
-    } else {
-      dst[i] = outside;
-    }
-  }
+void remapNearest(const T* src, T* dst, const std::vector<int32_t>& source, T outside) {
+  for (size_t i = 0; i < source.size(); ++i) dst[i] = source[i] >= 0 ? src[source[i]] : outside;
+}
+
+}  // namespace
+
+Undistorter::BilinearTap Undistorter::bilinearTap(float x, float y) const {
+  const int X = roundToInt(x * float(kInterTab)), Y = roundToInt(y * float(kInterTab));
+  const int sx = saturateShort(X >> kInterBits), sy = saturateShort(Y >> kInterBits);
+  BilinearTap tap;
+  tap.weights = uint16_t((Y & (kInterTab - 1)) * kInterTab + (X & (kInterTab - 1)));
+  if (sx >= width_ || sx + 1 < 0 || sy >= height_ || sy + 1 < 0) return tap;  // inside = 0
+  tap.first = sy * width_ + sx;
+  const bool x0 = sx >= 0, x1 = sx + 1 < width_, y0 = sy >= 0, y1 = sy + 1 < height_;
+  tap.inside = uint8_t((x0 && y0) | (x1 && y0) << 1 | (x0 && y1) << 2 | (x1 && y1) << 3);
+  return tap;
 }
 
 // Bilinear, RGBA 8 bit, constant border `outside` for samples beyond the image.
-void remapBilinearRgba(const Rgb8* src, Rgb8* dst, int width, int height, const float* map_x, const float* map_y,
-                       Rgb8 outside) {
+void Undistorter::remapBilinearRgba(const Rgb8* src, Rgb8* dst, Rgb8 outside) const {
   const BilinearWeights& table = bilinearWeights();
   auto channels = [](const Rgb8& p, int k) { return k == 0 ? p.r : k == 1 ? p.g : k == 2 ? p.b : p.a; };
-  for (size_t i = 0; i < size_t(width) * height; ++i) {
-    const int X = roundToInt(map_x[i] * float(kInterTab)), Y = roundToInt(map_y[i] * float(kInterTab));
-    const int sx = saturateShort(X >> kInterBits), sy = saturateShort(Y >> kInterBits);
-    if (sx >= width || sx + 1 < 0 || sy >= height || sy + 1 < 0) {
+  for (size_t i = 0; i < bilinear_.size(); ++i) {
+    const BilinearTap tap = bilinear_[i];
+    if (tap.inside == 0) {
       dst[i] = outside;
       continue;
     }
-    const int* w = table.w[(Y & (kInterTab - 1)) * kInterTab + (X & (kInterTab - 1))];
-    const bool x0 = sx >= 0, x1 = sx + 1 < width, y0 = sy >= 0, y1 = sy + 1 < height;
-    const Rgb8& p00 = x0 && y0 ? src[size_t(sy) * width + sx] : outside;
-    const Rgb8& p01 = x1 && y0 ? src[size_t(sy) * width + sx + 1] : outside;
-    const Rgb8& p10 = x0 && y1 ? src[size_t(sy + 1) * width + sx] : outside;
-    const Rgb8& p11 = x1 && y1 ? src[size_t(sy + 1) * width + sx + 1] : outside;
+    const int* w = table.w[tap.weights];
+    const Rgb8* p = src + tap.first;
+    const bool all = tap.inside == 15;  // the common case: no tap at the border
+    const Rgb8& p00 = all || (tap.inside & 1) ? p[0] : outside;
+    const Rgb8& p01 = all || (tap.inside & 2) ? p[1] : outside;
+    const Rgb8& p10 = all || (tap.inside & 4) ? p[width_] : outside;
+    const Rgb8& p11 = all || (tap.inside & 8) ? p[width_ + 1] : outside;
     uint8_t out[4];
     for (int k = 0; k < 4; ++k) {
       const int sum = channels(p00, k) * w[0] + channels(p01, k) * w[1] + channels(p10, k) * w[2] +
@@ -89,8 +99,6 @@ void remapBilinearRgba(const Rgb8* src, Rgb8* dst, int width, int height, const 
     dst[i] = {out[0], out[1], out[2], out[3]};
   }
 }
-
-}  // namespace
 
 Undistorter::Undistorter(const Intrinsics& K, const Distortion& d) : width_(K.width), height_(K.height) {
   if (!K.valid()) throw Error("undistortion needs valid intrinsics with an image size");
@@ -108,6 +116,15 @@ Undistorter::Undistorter(const Intrinsics& K, const Distortion& d) : width_(K.wi
       map_x_[size_t(v) * width_ + u] = float(K.fx * xd + K.cx);
       map_y_[size_t(v) * width_ + u] = float(K.fy * yd + K.cy);
     }
+  const size_t pixels = map_x_.size();
+  nearest_.resize(pixels);
+  nearest_clamped_.resize(pixels);
+  bilinear_.resize(pixels);
+  for (size_t i = 0; i < pixels; ++i) {
+    nearest_[i] = nearestSource(map_x_[i], map_y_[i], width_, height_, false);
+    nearest_clamped_[i] = nearestSource(map_x_[i], map_y_[i], width_, height_, true);
+    bilinear_[i] = bilinearTap(map_x_[i], map_y_[i]);
+  }
 }
 
 void Undistorter::checkSize(int width, int height, const char* what) const {
@@ -120,21 +137,21 @@ void Undistorter::checkSize(int width, int height, const char* what) const {
 DepthImage Undistorter::undistortDepth(const DepthImage& depth_m) const {
   checkSize(depth_m.width(), depth_m.height(), "depth");
   DepthImage out(width_, height_);
-  remapNearest(depth_m.data(), out.data(), width_, height_, map_x_.data(), map_y_.data(), false, 0.f);
+  remapNearest(depth_m.data(), out.data(), nearest_, 0.f);
   return out;
 }
 
 ColorImage Undistorter::undistortColor(const ColorImage& color) const {
   checkSize(color.width(), color.height(), "colour");
   ColorImage out(width_, height_);
-  remapBilinearRgba(color.data(), out.data(), width_, height_, map_x_.data(), map_y_.data(), Rgb8{0, 0, 0, 255});
+  remapBilinearRgba(color.data(), out.data(), Rgb8{0, 0, 0, 255});
   return out;
 }
 
 LabelImage Undistorter::undistortLabels(const LabelImage& labels) const {
   checkSize(labels.width(), labels.height(), "label map");
   LabelImage out(width_, height_);
-  remapNearest(labels.data(), out.data(), width_, height_, map_x_.data(), map_y_.data(), true, uint16_t(0));
+  remapNearest(labels.data(), out.data(), nearest_clamped_, uint16_t(0));
   return out;
 }
 

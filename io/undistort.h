@@ -3,6 +3,7 @@
 // tables computed once, so that per-frame work is a lookup and concurrent calls share nothing
 // mutable. The output camera is the same pinhole K: after remapping, a pixel (u, v) sees the
 // ray K^-1 (u, v, 1) exactly.
+#include <cstdint>
 #include <vector>
 
 #include "core/image.h"
@@ -30,10 +31,24 @@ class Undistorter {
   const std::vector<float>& mapY() const { return map_y_; }
 
  private:
+  // Where a bilinear sample reads: the input pixel of its top-left tap, its weights (an entry
+  // of the 32 x 32 sub-pixel table) and which of its four taps lie inside the image (bits 0-3:
+  // top-left, top-right, bottom-left, bottom-right; 0: the whole sample is outside).
+  struct BilinearTap {
+    int32_t first = 0;
+    uint16_t weights = 0;
+    uint8_t inside = 0;
+  };
+  BilinearTap bilinearTap(float x, float y) const;
+  void remapBilinearRgba(const Rgb8* src, Rgb8* dst, Rgb8 outside) const;
   void checkSize(int width, int height, const char* what) const;
   int width_ = 0, height_ = 0;
   // For each output pixel, where to sample the distorted input (float pixel coordinates).
   std::vector<float> map_x_, map_y_;
+  // The same, resolved once so that a frame's remap is lookups only: the nearest input pixel
+  // (-1 outside the image; clamped: the nearest edge pixel instead) and the bilinear taps.
+  std::vector<int32_t> nearest_, nearest_clamped_;
+  std::vector<BilinearTap> bilinear_;
 };
 
 }  // namespace vf
