@@ -25,42 +25,78 @@ struct IcpKernel {
   // Number of work items for the reduction.
   VF_HD int count() const { return stridedPixelCount(vertex_cam.width, vertex_cam.height, stride_px); }
 
+  // One pixel's row (CUDA's reduction, one item per thread): rows() for a single lane.
   VF_HD bool operator()(int item, float* row) const {
-    const int i = stridedPixel(item, vertex_cam.width, stride_px);
-    const Vec3f v_cam = vertex_cam[i];
-    if (v_cam.z <= 0.f) return false;
-    const Vec3f n_cam = normal_cam[i];
-    if (n_cam.x == 0.f && n_cam.y == 0.f && n_cam.z == 0.f) return false;
-    for (int k = 0; k < normal_row::kSize; ++k) row[k] = 0.f;
-    row[normal_row::kMeasured] = 1.f;  // a usable measurement, matched or not
-    correspond(v_cam, n_cam, row);
+    float lane[normal_row::kSize][1];
+    if (!rows<1>(item, item + 1, lane)) return false;
+    for (int k = 0; k < normal_row::kSize; ++k) row[k] = lane[k][0];
     return true;
   }
 
-  // Fills the row's equations and inlier count when the measurement finds a model partner that passes both rejections.
-  VF_HD void correspond(Vec3f v_cam, Vec3f n_cam, float* row) const {
-    const Vec3f v = T_world_cam * v_cam;
-    const Vec3f n = T_world_cam.rotate(n_cam);
-    float u, w;
-    if (!model_intrinsics.project(T_model_world * v, u, w)) return;
-    if (!(u >= -0.5f && w >= -0.5f && u < float(model_vertex.width) - 0.5f && w < float(model_vertex.height) - 0.5f))
-      return;
-    const int px = int(floorf(u + 0.5f)), py = int(floorf(w + 0.5f));
-    if (!model_vertex.inside(px, py)) return;
-    const Vec3f mv = model_vertex(px, py);
-    const Vec3f mn = model_normal(px, py);
-    if (mn.x == 0.f && mn.y == 0.f && mn.z == 0.f) return;
-    const Vec3f diff = v - mv;
-    if (dot(diff, diff) > max_distance_m * max_distance_m) return;
-    if (dot(n, mn) < min_normal_cos) return;
-    const float r = dot(mn, diff);
-    const float abs_r = fabsf(r);
-    const float weight = abs_r <= huber_m ? 1.f : huber_m / abs_r;
-    // d r / d xi for xi = (omega, t) applied on the left: [v x n, n]
-    const Vec3f a = cross(v, mn);
-    const float J[6] = {a.x, a.y, a.z, mn.x, mn.y, mn.z};
-    packNormalRow(row, J, r, weight);
-    row[normal_row::kInliers] = 1.f;
+  // The rows of items first .. first + L - 1 (those from `items` on give zero rows), one lane each:
+  // row[k][lane]. Written without branches, with every lane computing and the rejected ones
+  // weighted zero, so that the CPU compiler runs L pixels in vector lanes (the CPU reduction
+  // takes 8 at a time). The image reads get loops of their own, as in IntegrateKernel::fuseRow.
+  // False when no lane has a measurement.
+  template <int L>
+  VF_HD bool rows(int first, int items, float (&row)[normal_row::kSize][L]) const {
+    int pixel[L], measured[L];
+    float vx[L], vy[L], vz[L], nx[L], ny[L], nz[L];
+    for (int j = 0; j < L; ++j) pixel[j] = stridedPixel(first + j < items ? first + j : first, vertex_cam.width, stride_px);
+    for (int j = 0; j < L; ++j) {
+      const Vec3f v = vertex_cam[pixel[j]], n = normal_cam[pixel[j]];
+      vx[j] = v.x, vy[j] = v.y, vz[j] = v.z, nx[j] = n.x, ny[j] = n.y, nz[j] = n.z;
+    }
+    int any_measured = 0;
+    for (int j = 0; j < L; ++j) {
+      measured[j] = (first + j < items) & (vz[j] > 0.f) & !((nx[j] == 0.f) & (ny[j] == 0.f) & (nz[j] == 0.f));
+      any_measured |= measured[j];
+    }
+    if (!any_measured) return false;
+    // World point and normal; the model pixel the point projects to.
+    float wx[L], wy[L], wz[L], wnx[L], wny[L], wnz[L];
+    int model_pixel[L], found[L];
+    for (int j = 0; j < L; ++j) {
+      const Vec3f v = T_world_cam * Vec3f{vx[j], vy[j], vz[j]};
+      const Vec3f n = T_world_cam.rotate(Vec3f{nx[j], ny[j], nz[j]});
+      wx[j] = v.x, wy[j] = v.y, wz[j] = v.z, wnx[j] = n.x, wny[j] = n.y, wnz[j] = n.z;
+      const Vec3f m = T_model_world * v;
+      float u, w;
+      model_intrinsics.projectAnyDepth(m, u, w);
+      const int inside = measured[j] & (m.z > 0.f) & (u >= -0.5f) & (w >= -0.5f) &
+                         (u < float(model_vertex.width) - 0.5f) & (w < float(model_vertex.height) - 0.5f);
+      const float us = inside ? u : 0.f, ws = inside ? w : 0.f;  // finite, so the pixel below is in the image
+      model_pixel[j] = int(floorf(ws + 0.5f)) * model_vertex.width + int(floorf(us + 0.5f));
+      found[j] = inside;
+    }
+    float mx[L], my[L], mz[L], mnx[L], mny[L], mnz[L];
+    for (int j = 0; j < L; ++j) {
+      const Vec3f mv = model_vertex[model_pixel[j]], mn = model_normal[model_pixel[j]];
+      mx[j] = mv.x, my[j] = mv.y, mz[j] = mv.z, mnx[j] = mn.x, mny[j] = mn.y, mnz[j] = mn.z;
+    }
+    const float max_d2 = max_distance_m * max_distance_m;
+    float J[6][L], r[L], weight[L];
+    for (int j = 0; j < L; ++j) {
+      const float dx = wx[j] - mx[j], dy = wy[j] - my[j], dz = wz[j] - mz[j];
+      const int paired = found[j] & !((mnx[j] == 0.f) & (mny[j] == 0.f) & (mnz[j] == 0.f)) &
+                         !(dx * dx + dy * dy + dz * dz > max_d2) &
+                         !(wnx[j] * mnx[j] + wny[j] * mny[j] + wnz[j] * mnz[j] < min_normal_cos);
+      r[j] = paired ? mnx[j] * dx + mny[j] * dy + mnz[j] * dz : 0.f;
+      const float abs_r = fabsf(r[j]);
+      weight[j] = paired ? (abs_r <= huber_m ? 1.f : huber_m / fmaxf(abs_r, huber_m)) : 0.f;
+      // d r / d xi for xi = (omega, t) applied on the left: [v x n, n]; zero where unpaired, so
+      // that the products stay finite.
+      J[0][j] = paired ? wy[j] * mnz[j] - wz[j] * mny[j] : 0.f;
+      J[1][j] = paired ? wz[j] * mnx[j] - wx[j] * mnz[j] : 0.f;
+      J[2][j] = paired ? wx[j] * mny[j] - wy[j] * mnx[j] : 0.f;
+      J[3][j] = paired ? mnx[j] : 0.f;
+      J[4][j] = paired ? mny[j] : 0.f;
+      J[5][j] = paired ? mnz[j] : 0.f;
+      row[normal_row::kInliers][j] = paired ? 1.f : 0.f;
+      row[normal_row::kMeasured][j] = measured[j] ? 1.f : 0.f;
+    }
+    packNormalRows<L>(row, J, r, weight);
+    return true;
   }
 };
 

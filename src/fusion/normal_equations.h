@@ -25,6 +25,20 @@ VF_HD void packNormalRow(float* row, const float J[6], float residual, float wei
   row[normal_row::kSquaredError] = weight * residual * residual;
 }
 
+// The same for L residuals at once into rows laid out row[k][lane] (kernels that evaluate L
+// pixels together): each product is one loop over the lanes, which the CPU compiler vectorises.
+template <int L>
+VF_HD void packNormalRows(float (&row)[normal_row::kSize][L], const float (&J)[6][L], const float (&residual)[L],
+                          const float (&weight)[L]) {
+  int k = normal_row::kHessian;
+  for (int p = 0; p < 6; ++p)
+    for (int q = p; q < 6; ++q, ++k)
+      for (int j = 0; j < L; ++j) row[k][j] = weight[j] * J[p][j] * J[q][j];
+  for (int p = 0; p < 6; ++p)
+    for (int j = 0; j < L; ++j) row[normal_row::kGradient + p][j] = weight[j] * J[p][j] * residual[j];
+  for (int j = 0; j < L; ++j) row[normal_row::kSquaredError][j] = weight[j] * residual[j] * residual[j];
+}
+
 // Work items of an image sampled at every stride-th pixel in x and y, and the pixel of each.
 VF_HD int stridedPixelCount(int width, int height, int stride) {
   return ((width + stride - 1) / stride) * ((height + stride - 1) / stride);

@@ -9,6 +9,8 @@
 
 #include <algorithm>
 #include <array>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "core/error.h"
@@ -38,6 +40,19 @@ void parallelFor(Device device, int n, const F& f) {
 // cut into fixed chunks (independent of the thread count and of TBB's work stealing), each chunk
 // is summed on its own, and the chunk sums are added in order. ICP poses, and so the fused
 // volume, are then bit-identical from run to run (checkpoint/resume relies on it).
+// A kernel may also evaluate kReduceLanes elements at once, `template <int L> VF_HD bool
+// rows(int first, int n, float (&row)[N][L]) const` (row[k][lane], zero for the elements from
+// n on; false: all rows zero), written so
+// that the CPU compiler runs the lanes in vector registers. The CPU reduction then uses it and
+// sums lane by lane; CUDA keeps one element per thread.
+constexpr int kReduceLanes = 8;
+template <class F, int N, class = void>
+struct HasReduceLanes : std::false_type {};
+template <class F, int N>
+struct HasReduceLanes<F, N,
+                      std::void_t<decltype(std::declval<const F&>().template rows<kReduceLanes>(
+                          0, 0, std::declval<float (&)[N][kReduceLanes]>()))>> : std::true_type {};
+
 template <int N, class F>
 std::array<double, N> parallelReduce(Device device, int n, const F& f) {
   std::array<double, N> total{};
@@ -56,11 +71,31 @@ std::array<double, N> parallelReduce(Device device, int n, const F& f) {
   tbb::parallel_for(tbb::blocked_range<int>(0, chunks, 1), [&](const tbb::blocked_range<int>& r) {
     for (int c = r.begin(); c != r.end(); ++c) {
       std::array<double, N>& acc = partial[size_t(c)];
+      const int end = std::min(n, (c + 1) * kChunk);
+      if constexpr (HasReduceLanes<F, N>::value) {
+        static_assert(kChunk % kReduceLanes == 0, "a chunk holds whole groups of lanes");
+        // 32 groups (256 elements) per lane in float, then into double, as below.
+        float chunk[N][kReduceLanes] = {};
+        float rows[N][kReduceLanes];
+        int groups = 0;
+        for (int i = c * kChunk; i < end; i += kReduceLanes) {
+          if (!f.template rows<kReduceLanes>(i, n, rows)) continue;
+          for (int k = 0; k < N; ++k)
+            for (int j = 0; j < kReduceLanes; ++j) chunk[k][j] += rows[k][j];
+          if (++groups == 256 / kReduceLanes) {
+            for (int k = 0; k < N; ++k)
+              for (int j = 0; j < kReduceLanes; ++j) acc[k] += chunk[k][j], chunk[k][j] = 0.f;
+            groups = 0;
+          }
+        }
+        for (int k = 0; k < N; ++k)
+          for (int j = 0; j < kReduceLanes; ++j) acc[k] += chunk[k][j];
+        continue;
+      }
       float row[N];
       // Accumulate 256 rows in float (fast), then fold into double.
       float chunk[N] = {};
       int in_chunk = 0;
-      const int end = std::min(n, (c + 1) * kChunk);
       for (int i = c * kChunk; i != end; ++i) {
         if (!f(i, row)) continue;
         for (int k = 0; k < N; ++k) chunk[k] += row[k];

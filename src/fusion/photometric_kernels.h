@@ -102,36 +102,76 @@ struct PhotometricKernel {
   // Number of work items for the reduction.
   VF_HD int count() const { return stridedPixelCount(model_vertex.width, model_vertex.height, stride_px); }
 
+  // One model pixel's row (CUDA's reduction, one item per thread): rows() for a single lane.
   VF_HD bool operator()(int item, float* row) const {
-    const int i = stridedPixel(item, model_vertex.width, stride_px);
-    const Vec3f n = model_normal[i];
-    if (n.x == 0.f && n.y == 0.f && n.z == 0.f) return false;
-    const float model_grey = model_intensity[i];
-    if (model_grey < 0.f) return false;
-    const Vec3f p = model_vertex[i];
-    const Vec3f pc = T_cam_world * p;
-    float u, v;
-    if (!intrinsics.project(pc, u, v)) return false;
-    if (!(u >= 1.f && v >= 1.f && u < float(intensity.width - 2) && v < float(intensity.height - 2))) return false;
-    const float d = depth(int(u + 0.5f), int(v + 0.5f));
-    if (d <= 0.f || fabsf(d - pc.z) > max_depth_difference_m) return false;  // occluded or unseen
-    const float grey = bilinear(intensity, u, v);
-    const Vec2f g = bilinear(gradient, u, v);
-    if (grey < 0.f || !(g.x == g.x && g.y == g.y)) return false;  // no colour here or at a neighbour (NaN)
-    const float gx = g.x, gy = g.y;
-    const float r = grey - model_grey;
-    const float inv_z = 1.f / pc.z;
-    // d(grey)/d(p_cam) through the pinhole projection.
-    const Vec3f g_cam{gx * intrinsics.fx * inv_z, gy * intrinsics.fy * inv_z,
-                      -(gx * intrinsics.fx * pc.x + gy * intrinsics.fy * pc.y) * inv_z * inv_z};
-    const Vec3f a = T_world_cam.rotate(g_cam);
-    const Vec3f j_rot = cross(a, p);
-    const float J[6] = {j_rot.x, j_rot.y, j_rot.z, -a.x, -a.y, -a.z};
-    const float abs_r = fabsf(r);
-    const float w = weight * (abs_r <= huber ? 1.f : huber / abs_r);
-    packNormalRow(row, J, r, w);
-    row[normal_row::kInliers] = 0.f;  // statistics (inliers, measured pixels) stay geometric
-    row[normal_row::kMeasured] = 0.f;
+    float lane[normal_row::kSize][1];
+    if (!rows<1>(item, item + 1, lane)) return false;
+    for (int k = 0; k < normal_row::kSize; ++k) row[k] = lane[k][0];
+    return true;
+  }
+
+  // The rows of items first .. first + L - 1 (zero from `items` on), one lane each, row[k][lane]:
+  // branch-free, as IcpKernel::rows, so that the CPU runs L pixels in vector lanes. False when
+  // no lane has a model point with colour.
+  template <int L>
+  VF_HD bool rows(int first, int items, float (&row)[normal_row::kSize][L]) const {
+    int pixel[L], usable[L];
+    float grey_model[L], px[L], py[L], pz[L];
+    for (int j = 0; j < L; ++j)
+      pixel[j] = stridedPixel(first + j < items ? first + j : first, model_vertex.width, stride_px);
+    int any = 0;
+    for (int j = 0; j < L; ++j) {
+      const Vec3f n = model_normal[pixel[j]], p = model_vertex[pixel[j]];
+      grey_model[j] = model_intensity[pixel[j]];
+      px[j] = p.x, py[j] = p.y, pz[j] = p.z;
+      usable[j] = (first + j < items) & !((n.x == 0.f) & (n.y == 0.f) & (n.z == 0.f)) & !(grey_model[j] < 0.f);
+      any |= usable[j];
+    }
+    if (!any) return false;
+    // Where each model point lands in the current image; sample positions clamped into the
+    // image where refused, so that every read below is in bounds.
+    float cx[L], cy[L], cz[L], u[L], v[L];
+    int depth_pixel[L];
+    for (int j = 0; j < L; ++j) {
+      const Vec3f pc = T_cam_world * Vec3f{px[j], py[j], pz[j]};
+      cx[j] = pc.x, cy[j] = pc.y, cz[j] = pc.z;
+      float uj, vj;
+      intrinsics.projectAnyDepth(pc, uj, vj);
+      usable[j] &= (pc.z > 0.f) & (uj >= 1.f) & (vj >= 1.f) & (uj < float(intensity.width - 2)) &
+                   (vj < float(intensity.height - 2));
+      u[j] = usable[j] ? uj : 1.f;
+      v[j] = usable[j] ? vj : 1.f;
+      depth_pixel[j] = int(v[j] + 0.5f) * depth.width + int(u[j] + 0.5f);
+    }
+    float d[L], grey[L], gx[L], gy[L];
+    for (int j = 0; j < L; ++j) d[j] = depth[depth_pixel[j]];
+    for (int j = 0; j < L; ++j) {
+      grey[j] = bilinear(intensity, u[j], v[j]);
+      const Vec2f g = bilinear(gradient, u[j], v[j]);
+      gx[j] = g.x, gy[j] = g.y;
+    }
+    float J[6][L], r[L], w[L];
+    for (int j = 0; j < L; ++j) {
+      // Occluded or unseen; no colour here or at a neighbour (a NaN gradient).
+      const int ok = usable[j] & (d[j] > 0.f) & !(fabsf(d[j] - cz[j]) > max_depth_difference_m) & !(grey[j] < 0.f) &
+                     (gx[j] == gx[j]) & (gy[j] == gy[j]);
+      r[j] = ok ? grey[j] - grey_model[j] : 0.f;
+      const float inv_z = 1.f / (ok ? cz[j] : 1.f);
+      const float gxs = ok ? gx[j] : 0.f, gys = ok ? gy[j] : 0.f;
+      // d(grey)/d(p_cam) through the pinhole projection, then into the world frame.
+      const Vec3f g_cam{gxs * intrinsics.fx * inv_z, gys * intrinsics.fy * inv_z,
+                        -(gxs * intrinsics.fx * cx[j] + gys * intrinsics.fy * cy[j]) * inv_z * inv_z};
+      const Vec3f a = T_world_cam.rotate(g_cam);
+      J[0][j] = a.y * pz[j] - a.z * py[j];  // cross(a, p)
+      J[1][j] = a.z * px[j] - a.x * pz[j];
+      J[2][j] = a.x * py[j] - a.y * px[j];
+      J[3][j] = -a.x, J[4][j] = -a.y, J[5][j] = -a.z;
+      const float abs_r = fabsf(r[j]);
+      w[j] = ok ? weight * (abs_r <= huber ? 1.f : huber / fmaxf(abs_r, huber)) : 0.f;
+      row[normal_row::kInliers][j] = 0.f;  // statistics (inliers, measured pixels) stay geometric
+      row[normal_row::kMeasured][j] = 0.f;
+    }
+    packNormalRows<L>(row, J, r, w);
     return true;
   }
 };

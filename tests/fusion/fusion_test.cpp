@@ -3,11 +3,16 @@
 
 #include <tbb/global_control.h>
 
+#include <array>
 #include <functional>
 #include <limits>
+#include <random>
+#include <vector>
 
 #include "brick_lookup.h"
 #include "core/error.h"
+#include "fusion/icp_kernels.h"
+#include "fusion/parallel.h"
 #include "fusion/pipeline.h"
 #include "synthetic_scene.h"
 #include "test_data.h"
@@ -147,6 +152,51 @@ TEST(Tracking, AWildJumpIsRejectedAsTrackingLoss) {
   const FrameResult r = pipeline.processFrame(scene.render(k, poseFrom(0, 60, 0, 0.8, 0, 0.5)));
   EXPECT_FALSE(r.tracked);
   EXPECT_FALSE(r.lost_reason.empty());
+}
+
+// The CPU reduces ICP rows eight pixels at a time (IcpKernel::rows): over a count that is no
+// multiple of eight, and short of the kernel's own count, it must give the sum of the rows one
+// pixel at a time, within float rounding, and the counts exactly.
+TEST(Tracking, TheEightLaneIcpReductionSumsTheSameRowsAsOnePixelAtATime) {
+  const Intrinsics k = testCamera();
+  const int n = 3 * 4096 + 77;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> ux(-0.4f, 0.4f), noise(-0.01f, 0.01f), tilt(-0.2f, 0.2f);
+  std::vector<Vec3f> vertex(static_cast<size_t>(n)), normal(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    const float z = 1.f + noise(rng);
+    vertex[size_t(i)] = i % 13 == 0 ? Vec3f{0, 0, 0} : Vec3f{ux(rng) * z, ux(rng) * z, z};
+    normal[size_t(i)] = normalized(Vec3f{tilt(rng), tilt(rng), -1.f});
+  }
+  std::vector<Vec3f> model_vertex(size_t(k.width) * k.height), model_normal(model_vertex.size());
+  for (int y = 0; y < k.height; ++y)
+    for (int x = 0; x < k.width; ++x) {
+      model_vertex[size_t(y) * k.width + x] = k.backProject(float(x), float(y), 1.f);
+      model_normal[size_t(y) * k.width + x] = Vec3f{0.f, 0.f, -1.f};
+    }
+  IcpKernel icp;
+  icp.vertex_cam = {vertex.data(), n, 1};
+  icp.normal_cam = {normal.data(), n, 1};
+  icp.model_vertex = {model_vertex.data(), k.width, k.height};
+  icp.model_normal = {model_normal.data(), k.width, k.height};
+  icp.model_intrinsics = k;
+  icp.T_world_cam = toRigid3f(poseFrom(0.3, -0.2, 0.1, 0.002, -0.001, 0.003));
+  icp.T_model_world = Rigid3f::identity();
+  for (const int count : {n, 1001}) {
+    SCOPED_TRACE(count);
+    std::array<double, normal_row::kSize> exact{}, magnitude{};
+    float row[normal_row::kSize];
+    for (int i = 0; i < count; ++i) {
+      if (!icp(i, row)) continue;
+      for (int c = 0; c < normal_row::kSize; ++c) exact[size_t(c)] += row[c], magnitude[size_t(c)] += std::abs(row[c]);
+    }
+    ASSERT_GT(exact[normal_row::kInliers], 0.5 * count) << "too few correspondences for a meaningful test";
+    const std::array<double, normal_row::kSize> lanes = parallelReduce<normal_row::kSize>(Device::Cpu, count, icp);
+    for (int c = 0; c < normal_row::kSize; ++c)
+      EXPECT_NEAR(lanes[size_t(c)], exact[size_t(c)], 1e-5 * magnitude[size_t(c)] + 1e-9) << "component " << c;
+    EXPECT_EQ(lanes[normal_row::kInliers], exact[normal_row::kInliers]);
+    EXPECT_EQ(lanes[normal_row::kMeasured], exact[normal_row::kMeasured]);
+  }
 }
 
 TEST(Volume, BricksAreAllocatedOnlyAlongTheObservedSurface) {
