@@ -25,13 +25,8 @@ struct IcpKernel {
   // Number of work items for the reduction.
   VF_HD int count() const { return stridedPixelCount(vertex_cam.width, vertex_cam.height, stride_px); }
 
-  // One pixel's row (CUDA's reduction, one item per thread): rows() for a single lane.
-  VF_HD bool operator()(int item, float* row) const {
-    float lane[normal_row::kSize][1];
-    if (!rows<1>(item, item + 1, lane)) return false;
-    for (int k = 0; k < normal_row::kSize; ++k) row[k] = lane[k][0];
-    return true;
-  }
+  // One pixel's row (CUDA's reduction, one item per thread).
+  VF_HD bool operator()(int item, float* row) const { return singleRow(*this, item, row); }
 
   // The rows of items first .. first + L - 1 (those from `items` on give zero rows), one lane each:
   // row[k][lane]. Written without branches, with every lane computing and the rejected ones

@@ -39,6 +39,15 @@ VF_HD void packNormalRows(float (&row)[normal_row::kSize][L], const float (&J)[6
   for (int j = 0; j < L; ++j) row[normal_row::kSquaredError][j] = weight[j] * residual[j] * residual[j];
 }
 
+// One element's row from a kernel's rows<L>() (CUDA's reduction takes one element per thread).
+template <class Kernel>
+VF_HD bool singleRow(const Kernel& kernel, int item, float* row) {
+  float lane[normal_row::kSize][1];
+  if (!kernel.template rows<1>(item, item + 1, lane)) return false;
+  for (int k = 0; k < normal_row::kSize; ++k) row[k] = lane[k][0];
+  return true;
+}
+
 // Work items of an image sampled at every stride-th pixel in x and y, and the pixel of each.
 VF_HD int stridedPixelCount(int width, int height, int stride) {
   return ((width + stride - 1) / stride) * ((height + stride - 1) / stride);

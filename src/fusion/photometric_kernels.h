@@ -102,13 +102,8 @@ struct PhotometricKernel {
   // Number of work items for the reduction.
   VF_HD int count() const { return stridedPixelCount(model_vertex.width, model_vertex.height, stride_px); }
 
-  // One model pixel's row (CUDA's reduction, one item per thread): rows() for a single lane.
-  VF_HD bool operator()(int item, float* row) const {
-    float lane[normal_row::kSize][1];
-    if (!rows<1>(item, item + 1, lane)) return false;
-    for (int k = 0; k < normal_row::kSize; ++k) row[k] = lane[k][0];
-    return true;
-  }
+  // One model pixel's row (CUDA's reduction, one item per thread).
+  VF_HD bool operator()(int item, float* row) const { return singleRow(*this, item, row); }
 
   // The rows of items first .. first + L - 1 (zero from `items` on), one lane each, row[k][lane]:
   // branch-free, as IcpKernel::rows, so that the CPU runs L pixels in vector lanes. False when

@@ -29,6 +29,7 @@
 #include "fusion/pipeline.h"
 #include "io/tum_dataset.h"
 #include "brick_lookup.h"
+#include "icp_rows_fixture.h"
 #include "synthetic_scene.h"
 #include "test_data.h"
 
@@ -366,20 +367,7 @@ TEST(CudaParity, IcpReductionMatchesADoubleSumWithinFloatRounding) {
   VF_REQUIRE_GPU();
   const Intrinsics k = test::testCamera(640, 480);
   const int n = 1024 * 256 * 2 + 77;
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<float> ux(-0.4f, 0.4f), noise(-0.01f, 0.01f), tilt(-0.2f, 0.2f);
-  std::vector<Vec3f> vertex(static_cast<size_t>(n)), normal(static_cast<size_t>(n));
-  for (int i = 0; i < n; ++i) {
-    const float z = 1.f + noise(rng);
-    vertex[size_t(i)] = i % 13 == 0 ? Vec3f{0, 0, 0} : Vec3f{ux(rng) * z, ux(rng) * z, z};
-    normal[size_t(i)] = normalized(Vec3f{tilt(rng), tilt(rng), -1.f});
-  }
-  std::vector<Vec3f> model_vertex(size_t(k.width) * k.height), model_normal(model_vertex.size());
-  for (int y = 0; y < k.height; ++y)
-    for (int x = 0; x < k.width; ++x) {
-      model_vertex[size_t(y) * k.width + x] = k.backProject(float(x), float(y), 1.f);
-      model_normal[size_t(y) * k.width + x] = Vec3f{0.f, 0.f, -1.f};
-    }
+  const test::IcpRowsFixture data = test::makeIcpRowsFixture(k, n);
   auto icpOn = [&](Device device, std::vector<std::unique_ptr<Buffer<Vec3f>>>& keep) {
     auto upload = [&](const std::vector<Vec3f>& host) {
       keep.push_back(std::make_unique<Buffer<Vec3f>>(device, host.size()));
@@ -387,10 +375,10 @@ TEST(CudaParity, IcpReductionMatchesADoubleSumWithinFloatRounding) {
       return keep.back()->data();
     };
     IcpKernel icp;
-    icp.vertex_cam = {upload(vertex), n, 1};
-    icp.normal_cam = {upload(normal), n, 1};
-    icp.model_vertex = {upload(model_vertex), k.width, k.height};
-    icp.model_normal = {upload(model_normal), k.width, k.height};
+    icp.vertex_cam = {upload(data.vertex), n, 1};
+    icp.normal_cam = {upload(data.normal), n, 1};
+    icp.model_vertex = {upload(data.model_vertex), k.width, k.height};
+    icp.model_normal = {upload(data.model_normal), k.width, k.height};
     icp.model_intrinsics = k;
     icp.T_world_cam = toRigid3f(test::poseFrom(0.3, -0.2, 0.1, 0.002, -0.001, 0.003));
     icp.T_model_world = Rigid3f::identity();

@@ -6,10 +6,10 @@
 #include <array>
 #include <functional>
 #include <limits>
-#include <random>
 #include <vector>
 
 #include "brick_lookup.h"
+#include "icp_rows_fixture.h"
 #include "core/error.h"
 #include "fusion/icp_kernels.h"
 #include "fusion/parallel.h"
@@ -160,25 +160,12 @@ TEST(Tracking, AWildJumpIsRejectedAsTrackingLoss) {
 TEST(Tracking, TheEightLaneIcpReductionSumsTheSameRowsAsOnePixelAtATime) {
   const Intrinsics k = testCamera();
   const int n = 3 * 4096 + 77;
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<float> ux(-0.4f, 0.4f), noise(-0.01f, 0.01f), tilt(-0.2f, 0.2f);
-  std::vector<Vec3f> vertex(static_cast<size_t>(n)), normal(static_cast<size_t>(n));
-  for (int i = 0; i < n; ++i) {
-    const float z = 1.f + noise(rng);
-    vertex[size_t(i)] = i % 13 == 0 ? Vec3f{0, 0, 0} : Vec3f{ux(rng) * z, ux(rng) * z, z};
-    normal[size_t(i)] = normalized(Vec3f{tilt(rng), tilt(rng), -1.f});
-  }
-  std::vector<Vec3f> model_vertex(size_t(k.width) * k.height), model_normal(model_vertex.size());
-  for (int y = 0; y < k.height; ++y)
-    for (int x = 0; x < k.width; ++x) {
-      model_vertex[size_t(y) * k.width + x] = k.backProject(float(x), float(y), 1.f);
-      model_normal[size_t(y) * k.width + x] = Vec3f{0.f, 0.f, -1.f};
-    }
+  const test::IcpRowsFixture data = test::makeIcpRowsFixture(k, n);
   IcpKernel icp;
-  icp.vertex_cam = {vertex.data(), n, 1};
-  icp.normal_cam = {normal.data(), n, 1};
-  icp.model_vertex = {model_vertex.data(), k.width, k.height};
-  icp.model_normal = {model_normal.data(), k.width, k.height};
+  icp.vertex_cam = {data.vertex.data(), n, 1};
+  icp.normal_cam = {data.normal.data(), n, 1};
+  icp.model_vertex = {data.model_vertex.data(), k.width, k.height};
+  icp.model_normal = {data.model_normal.data(), k.width, k.height};
   icp.model_intrinsics = k;
   icp.T_world_cam = toRigid3f(poseFrom(0.3, -0.2, 0.1, 0.002, -0.001, 0.003));
   icp.T_model_world = Rigid3f::identity();
