@@ -35,16 +35,11 @@ void parallelFor(Device device, int n, const F& f) {
   });
 }
 
-// Reduction of fixed-size float rows: f is `VF_HD bool operator()(int i, float* row) const`
-// returning false when element i contributes nothing. The CPU sum is deterministic: the range is
-// cut into fixed chunks (independent of the thread count and of TBB's work stealing), each chunk
-// is summed on its own, and the chunk sums are added in order. ICP poses, and so the fused
-// volume, are then bit-identical from run to run (checkpoint/resume relies on it).
-// A kernel may also evaluate kReduceLanes elements at once, `template <int L> VF_HD bool
-// rows(int first, int n, float (&row)[N][L]) const` (row[k][lane], zero for the elements from
-// n on; false: all rows zero), written so
-// that the CPU compiler runs the lanes in vector registers. The CPU reduction then uses it and
-// sums lane by lane; CUDA keeps one element per thread.
+// A parallelReduce kernel may also evaluate kReduceLanes elements at once, `template <int L>
+// VF_HD bool rows(int first, int n, float (&row)[N][L]) const` (row[k][lane], zero for the
+// elements from n on; false: all rows zero), written so that the CPU compiler runs the lanes in
+// vector registers. The CPU reduction then uses it and sums lane by lane; CUDA keeps one
+// element per thread.
 constexpr int kReduceLanes = 8;
 template <class F, int N, class = void>
 struct HasReduceLanes : std::false_type {};
@@ -53,6 +48,11 @@ struct HasReduceLanes<F, N,
                       std::void_t<decltype(std::declval<const F&>().template rows<kReduceLanes>(
                           0, 0, std::declval<float (&)[N][kReduceLanes]>()))>> : std::true_type {};
 
+// Reduction of fixed-size float rows: f is `VF_HD bool operator()(int i, float* row) const`
+// returning false when element i contributes nothing. The CPU sum is deterministic: the range is
+// cut into fixed chunks (independent of the thread count and of TBB's work stealing), each chunk
+// is summed on its own, and the chunk sums are added in order. ICP poses, and so the fused
+// volume, are then bit-identical from run to run (checkpoint/resume relies on it).
 template <int N, class F>
 std::array<double, N> parallelReduce(Device device, int n, const F& f) {
   std::array<double, N> total{};
