@@ -6,3 +6,12 @@
 #else
 #define VF_HD inline
 #endif
+
+// VF_SIMD_LOOP before a loop over vector lanes asks the host compiler to vectorise that loop
+// (`#pragma omp simd`, honoured where the target compiles with -fopenmp-simd, as vf_fusion
+// does); nvcc gets nothing.
+#if defined(__CUDACC__)
+#define VF_SIMD_LOOP
+#else
+#define VF_SIMD_LOOP _Pragma("omp simd")
+#endif

@@ -39,7 +39,66 @@ struct BilateralFilterKernel {
     return k;
   }
 
-  VF_HD void operator()(int i) const {
+  // Pixels per work item: 1 (CUDA), or kLanes neighbours of one row (the CPU), which run in
+  // vector lanes where their windows lie inside the image. Either gives the same bits.
+  static constexpr int kLanes = 8;
+  int pixels_per_item = 1;
+
+  VF_HD int itemCount() const {
+    return pixels_per_item == 1 ? depth_in.width * depth_in.height
+                                : (depth_in.width + kLanes - 1) / kLanes * depth_in.height;
+  }
+
+  VF_HD void operator()(int item) const {
+    if (pixels_per_item == 1) {
+      filterPixel(item);
+      return;
+    }
+    const int segments = (depth_in.width + kLanes - 1) / kLanes;
+    const int y = item / segments, x0 = (item % segments) * kLanes;
+    if (y < radius || y + radius >= depth_in.height || x0 < radius || x0 + kLanes + radius > depth_in.width) {
+      for (int j = 0; j < kLanes && x0 + j < depth_in.width; ++j) filterPixel(y * depth_in.width + x0 + j);
+      return;
+    }
+    filterInterior(x0, y);
+  }
+
+  // kLanes pixels from (x0, y) whose windows lie inside the image: filterPixel's sums, tap by
+  // tap in the same order, with a refused tap adding zero instead of being skipped. The
+  // neighbours of the lanes are contiguous loads; only the range-table reads are gathers.
+  VF_HD void filterInterior(int x0, int y) const {
+    float d0[kLanes], sum[kLanes], weight_sum[kLanes];
+    for (int j = 0; j < kLanes; ++j) d0[j] = depth_in(x0 + j, y), sum[j] = 0.f, weight_sum[j] = 0.f;
+    for (int dy = -radius; dy <= radius; ++dy) {
+      const float* row = &depth_in(x0, y + dy);
+      const float* spatial = spatial_weight + (dy + kMaxRadius) * (2 * kMaxRadius + 1) + kMaxRadius;
+      for (int dx = -radius; dx <= radius; ++dx) {
+        float d[kLanes], range[kLanes];
+        int index[kLanes], use[kLanes];
+        VF_SIMD_LOOP
+        for (int j = 0; j < kLanes; ++j) {
+          d[j] = row[j + dx];
+          const float dd = d[j] - d0[j];
+          const float scaled = dd * dd * range_index_per_m2;
+          use[j] = (d[j] >= min_depth_m) & (d[j] <= max_depth_m) & (scaled < float(kRangeTableSize));
+          index[j] = use[j] ? int(scaled) : 0;
+        }
+        for (int j = 0; j < kLanes; ++j) range[j] = range_weight[index[j]];
+        VF_SIMD_LOOP
+        for (int j = 0; j < kLanes; ++j) {
+          const float w = spatial[dx] * range[j];
+          sum[j] += use[j] ? w * d[j] : 0.f;
+          weight_sum[j] += use[j] ? w : 0.f;
+        }
+      }
+    }
+    for (int j = 0; j < kLanes; ++j) {
+      const bool valid = d0[j] >= min_depth_m && d0[j] <= max_depth_m;
+      depth_out(x0 + j, y) = valid ? sum[j] / weight_sum[j] : 0.f;  // weight_sum >= 1 from the centre
+    }
+  }
+
+  VF_HD void filterPixel(int i) const {
     const int x = i % depth_in.width, y = i / depth_in.width;
     const float d0 = depth_in[i];
     if (!(d0 >= min_depth_m && d0 <= max_depth_m)) {

@@ -108,7 +108,8 @@ void Pipeline::measure(const RgbdFrame& frame) {
       m.bilateral_radius_px, m.bilateral_sigma_px, m.bilateral_sigma_m, m.min_depth_m, m.max_depth_m);
   bilateral.depth_in = depth_for_geometry;
   bilateral.depth_out = b.depth[0].view();
-  parallelFor(device_, w * h, bilateral);
+  bilateral.pixels_per_item = device_ == Device::Cuda ? 1 : BilateralFilterKernel::kLanes;
+  parallelFor(device_, bilateral.itemCount(), bilateral);
   for (int l = 1; l < kPyramidLevels; ++l)
     parallelFor(device_, b.depth[l].size(),
                 DownsampleDepthKernel{constView(b.depth[l - 1]), b.depth[l].view(), m.pyramid_depth_jump_m});
