@@ -68,11 +68,17 @@ struct MarkBricksKernel {
     const float dz = step_vox * volume.voxel_size_m / norm(ray_cam);
     const float span = (z_end - z_begin) / dz;
     const int steps = span < float(kMaxSteps) ? int(span + 0.5f) + 1 : kMaxSteps;
+    Vec3i last_lo{0, 0, 0}, last_hi{-1, -1, -1};  // the bricks the previous step touched (none yet)
     for (int s = 0; s <= steps; ++s) {
       const float z = z_begin + float(s) * dz;
       const Vec3f p = volume.toVoxel(T_world_cam * (ray_cam * z));
       const Vec3i lo = brickOfVoxel(int(floorf(p.x - half_box)), int(floorf(p.y - half_box)), int(floorf(p.z - half_box)));
       const Vec3i hi = brickOfVoxel(int(floorf(p.x + half_box)), int(floorf(p.y + half_box)), int(floorf(p.z + half_box)));
+      // Steps are shorter than a brick: most cover the same bricks as the step before.
+      if (lo.x == last_lo.x && lo.y == last_lo.y && lo.z == last_lo.z && hi.x == last_hi.x && hi.y == last_hi.y &&
+          hi.z == last_hi.z)
+        continue;
+      last_lo = lo, last_hi = hi;
       for (int bz = lo.z; bz <= hi.z; ++bz)
         for (int by = lo.y; by <= hi.y; ++by)
           for (int bx = lo.x; bx <= hi.x; ++bx) {
