@@ -157,10 +157,11 @@ struct PhotometricKernel {
       const Vec3f g_cam{gxs * intrinsics.fx * inv_z, gys * intrinsics.fy * inv_z,
                         -(gxs * intrinsics.fx * cx[j] + gys * intrinsics.fy * cy[j]) * inv_z * inv_z};
       const Vec3f a = T_world_cam.rotate(g_cam);
-      J[0][j] = a.y * pz[j] - a.z * py[j];  // cross(a, p)
-      J[1][j] = a.z * px[j] - a.x * pz[j];
-      J[2][j] = a.x * py[j] - a.y * px[j];
-      J[3][j] = -a.x, J[4][j] = -a.y, J[5][j] = -a.z;
+      // cross(a, p), then -a; zero where refused, whatever the refused lane's point held.
+      J[0][j] = ok ? a.y * pz[j] - a.z * py[j] : 0.f;
+      J[1][j] = ok ? a.z * px[j] - a.x * pz[j] : 0.f;
+      J[2][j] = ok ? a.x * py[j] - a.y * px[j] : 0.f;
+      J[3][j] = ok ? -a.x : 0.f, J[4][j] = ok ? -a.y : 0.f, J[5][j] = ok ? -a.z : 0.f;
       const float abs_r = fabsf(r[j]);
       w[j] = ok ? weight * (abs_r <= huber ? 1.f : huber / fmaxf(abs_r, huber)) : 0.f;
       row[normal_row::kInliers][j] = 0.f;  // statistics (inliers, measured pixels) stay geometric
