@@ -1,7 +1,7 @@
 #pragma once
 // The rows tracking reduces: one per pixel, the pixel's share of the 6x6 Gauss-Newton normal
 // equations for a left-multiplied pose increment xi = (omega, v), plus the statistics that
-// judge the result. IcpKernel and PhotometricKernel fill them (packNormalRow), parallelReduce
+// judge the result. IcpKernel and PhotometricKernel fill them (packNormalRows), parallelReduce
 // sums them, and the host solves the sum (fusion/tracking.cpp). Slots are named, never counted.
 #include "core/hd.h"
 
@@ -16,17 +16,9 @@ constexpr int kMeasured = 29;       // measured pixels with a normal, matched or
 constexpr int kSize = 30;
 }  // namespace normal_row
 
-// Writes the weighted Jacobian products of one residual into row[kHessian .. kSquaredError].
-VF_HD void packNormalRow(float* row, const float J[6], float residual, float weight) {
-  int k = normal_row::kHessian;
-  for (int p = 0; p < 6; ++p)
-    for (int q = p; q < 6; ++q) row[k++] = weight * J[p] * J[q];
-  for (int p = 0; p < 6; ++p) row[normal_row::kGradient + p] = weight * J[p] * residual;
-  row[normal_row::kSquaredError] = weight * residual * residual;
-}
-
-// The same for L residuals at once into rows laid out row[k][lane] (kernels that evaluate L
-// pixels together): each product is one loop over the lanes, which the CPU compiler vectorises.
+// Writes the weighted Jacobian products of L residuals into row[kHessian .. kSquaredError][lane]
+// (kernels evaluate L pixels together): each product is one loop over the lanes, which the CPU
+// compiler vectorises.
 template <int L>
 VF_HD void packNormalRows(float (&row)[normal_row::kSize][L], const float (&J)[6][L], const float (&residual)[L],
                           const float (&weight)[L]) {
