@@ -83,12 +83,13 @@ void Undistorter::remapBilinearRgba(const Rgb8* src, Rgb8* dst, Rgb8 outside) co
       continue;
     }
     const int* w = table.w[tap.weights];
-    const Rgb8* p = src + tap.first;
+    // first is -1 or less at the top and left borders: each tap is read only where it is inside.
+    const int32_t f = tap.first;
     const bool all = tap.inside == 15;  // the common case: no tap at the border
-    const Rgb8& p00 = all || (tap.inside & 1) ? p[0] : outside;
-    const Rgb8& p01 = all || (tap.inside & 2) ? p[1] : outside;
-    const Rgb8& p10 = all || (tap.inside & 4) ? p[width_] : outside;
-    const Rgb8& p11 = all || (tap.inside & 8) ? p[width_ + 1] : outside;
+    const Rgb8& p00 = all || (tap.inside & 1) ? src[f] : outside;
+    const Rgb8& p01 = all || (tap.inside & 2) ? src[f + 1] : outside;
+    const Rgb8& p10 = all || (tap.inside & 4) ? src[f + width_] : outside;
+    const Rgb8& p11 = all || (tap.inside & 8) ? src[f + width_ + 1] : outside;
     uint8_t out[4];
     for (int k = 0; k < 4; ++k) {
       const int sum = channels(p00, k) * w[0] + channels(p01, k) * w[1] + channels(p10, k) * w[2] +
