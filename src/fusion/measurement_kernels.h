@@ -44,9 +44,9 @@ struct BilateralFilterKernel {
   static constexpr int kLanes = 8;
   int pixels_per_item = 1;
 
+  VF_HD int segmentsPerRow() const { return (depth_in.width + kLanes - 1) / kLanes; }
   VF_HD int itemCount() const {
-    return pixels_per_item == 1 ? depth_in.width * depth_in.height
-                                : (depth_in.width + kLanes - 1) / kLanes * depth_in.height;
+    return pixels_per_item == 1 ? depth_in.width * depth_in.height : segmentsPerRow() * depth_in.height;
   }
 
   VF_HD void operator()(int item) const {
@@ -54,8 +54,7 @@ struct BilateralFilterKernel {
       filterPixel(item);
       return;
     }
-    const int segments = (depth_in.width + kLanes - 1) / kLanes;
-    const int y = item / segments, x0 = (item % segments) * kLanes;
+    const int y = item / segmentsPerRow(), x0 = (item % segmentsPerRow()) * kLanes;
     if (y < radius || y + radius >= depth_in.height || x0 < radius || x0 + kLanes + radius > depth_in.width) {
       for (int j = 0; j < kLanes && x0 + j < depth_in.width; ++j) filterPixel(y * depth_in.width + x0 + j);
       return;
