@@ -33,17 +33,15 @@ void MeasurementParams::validate() const {
 void IcpParams::validate() const {
   for (int it : iterations) require(it >= 0 && it <= 100, "IcpParams.iterations", it, "must be in [0, 100]");
   require(iterations[0] + iterations[1] + iterations[2] > 0, "IcpParams.iterations", 0, "need at least one");
-  require(finest_stride_px >= 1 && finest_stride_px <= 8, "IcpParams.finest_stride_px", finest_stride_px,
-          "must be in [1, 8]");
+  for (int stride : stride_px) require(stride >= 1 && stride <= 8, "IcpParams.stride_px", stride, "must be in [1, 8]");
   require(max_distance_m > 0, "IcpParams.max_distance_m", max_distance_m, "must be > 0");
-  require(convergence_px >= 0 && convergence_px <= 1, "IcpParams.convergence_px", convergence_px, "must be in [0, 1]");
+  for (float px : convergence_px)
+    require(px >= 0 && px <= 1, "IcpParams.convergence_px", px, "must be in [0, 1]");
   require(max_normal_angle_deg > 0 && max_normal_angle_deg <= 90, "IcpParams.max_normal_angle_deg",
           max_normal_angle_deg, "must be in (0, 90]");
   require(huber_m > 0, "IcpParams.huber_m", huber_m, "must be > 0");
   require(photometric_weight >= 0, "IcpParams.photometric_weight", photometric_weight, "must be >= 0");
   require(photometric_huber > 0, "IcpParams.photometric_huber", photometric_huber, "must be > 0");
-  require(photometric_stride_px >= 1 && photometric_stride_px <= 8, "IcpParams.photometric_stride_px",
-          photometric_stride_px, "must be in [1, 8]");
   require(min_inlier_fraction >= 0 && min_inlier_fraction < 1, "IcpParams.min_inlier_fraction",
           min_inlier_fraction, "must be in [0, 1)");
   require(max_rmse_m > 0, "IcpParams.max_rmse_m", max_rmse_m, "must be > 0");

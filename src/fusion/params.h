@@ -24,10 +24,17 @@ struct MeasurementParams {
 struct IcpParams {
   // Iterations per pyramid level, finest first (KinectFusion: 10, 5, 4 coarse to fine).
   std::array<int, 3> iterations{3, 5, 10};
-  int finest_stride_px = 2;           // at level 0, every stride-th measured pixel in x and y
-  // A level stops iterating once its update moves points 1 m away by less than this share of the
-  // level's pixel (rotation and translation alike).
-  float convergence_px = 0.01f;
+  // Per level, finest first: every stride-th measured pixel in x and y. The photometric term
+  // samples the model at the same spacing in the image. A coarse level only brings the pose into
+  // the next level's reach, for which a quarter of its pixels is plenty: fr1_xyz track 19.8 ->
+  // 12.6 ms, ATE 0.974 -> 0.975 cm (teddy 0.312 -> 0.315).
+  std::array<int, 3> stride_px{2, 2, 1};
+  // Per level, finest first: a level stops iterating once its update moves points 1 m away by
+  // less than this share of the level's pixel (rotation and translation alike). The finest level
+  // sets the precision; a coarse level hands on a pose a tenth of its pixel from converged, well
+  // inside the finer level's reach (fr1_xyz: levels 1 and 2 run 3.1 and 5.5 iterations, not 4.7
+  // and 7.5; ATE unchanged).
+  std::array<float, 3> convergence_px{0.01f, 0.1f, 0.1f};
   float max_distance_m = 0.10f;       // correspondence distance rejection
   float max_normal_angle_deg = 30.f;  // correspondence normal-angle rejection
   float huber_m = 0.02f;              // robust weight threshold on point-to-plane residuals
@@ -37,7 +44,6 @@ struct IcpParams {
   float photometric_weight = 0.1f;
   float photometric_huber = 0.1f;     // grey levels in [0, 1]
   int photometric_finest_level = 0;   // pyramid levels finer than this use geometry alone
-  int photometric_stride_px = 2;      // at level 0, every stride-th model pixel in x and y
   // Tracking-loss detection: the frame is rejected (last good pose kept, not integrated) when
   float min_inlier_fraction = 0.15f;  // fewer of the valid measured pixels found a partner,
   float max_rmse_m = 0.03f;           // the point-to-plane RMSE stays above this,

@@ -1,6 +1,7 @@
 // Pipeline::solveIcp and judgeTracking: multi-scale frame-to-model ICP (KinectFusion section
 // 3.5) with an optional photometric term, then the decision whether to trust the result.
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -72,7 +73,7 @@ Pipeline::IcpSolution Pipeline::solveIcp(const Pose& initial_guess) {
     icp.max_distance_m = p.max_distance_m;
     icp.min_normal_cos = std::cos(p.max_normal_angle_deg * float(M_PI) / 180.f);
     icp.huber_m = p.huber_m;
-    icp.stride_px = l == 0 ? p.finest_stride_px : 1;
+    icp.stride_px = p.stride_px[size_t(l)];
     return icp;
   };
   bool have_finest_sums = false;
@@ -90,12 +91,13 @@ Pipeline::IcpSolution Pipeline::solveIcp(const Pose& initial_guess) {
       photo.intrinsics = intrinsics_.atLevel(l);
       photo.weight = p.photometric_weight;
       photo.huber = p.photometric_huber;
-      photo.stride_px = modelLevel(l) == 0 ? p.photometric_stride_px : 1;
+      // The model pixels at the spacing of the measured ones (in level-0 pixels): the coarser
+      // prediction is sampled less densely.
+      photo.stride_px = std::max(1, (p.stride_px[size_t(l)] << l) >> modelLevel(l));
     }
     // Converged once an update moves a point 1 m away by less than a small share of this level's
-    // pixel: further iterations cannot change which pixels correspond (measured on fr1_xyz: the
-    // coarse levels reach that in 3-5 of their 10 and 5 iterations).
-    const double converged = double(p.convergence_px) * double(1 << l) / double(intrinsics_.fx);
+    // pixel: further iterations cannot change which pixels correspond.
+    const double converged = double(p.convergence_px[size_t(l)]) * double(1 << l) / double(intrinsics_.fx);
     for (int it = 0; it < p.iterations[size_t(l)]; ++it) {
       icp.T_world_cam = toRigid3f(T);
       RowSums sums = parallelReduce<normal_row::kSize>(device_, icp.count(), icp);
