@@ -284,7 +284,13 @@ FrameResult Pipeline::processFrame(const RgbdFrame& frame, PoseSource pose_sourc
 // depth along the same ray would be rejected anyway. So where the frame just fused from this
 // pose measured a depth, the rays search only that window around it, not the whole range of
 // bricks in view: fr1_xyz 18 -> 12 steps per ray, raycast -13 %, the room scan -22 %, ATE
-// unchanged. A lost frame was measured from somewhere else: its prediction is not windowed.
+// unchanged. Where it measured nothing, no ray is cast: ICP pairs only measured points, the
+// photometric term only model points that land on measured depth, and the next frame's holes
+// are mostly this frame's. A quarter of fr1_xyz's rays (at the prediction level) fell in holes
+// and marched the whole range of their bricks, half of all steps; now only those within
+// RaycastKernel::kWindowHoleRadiusPx of a measurement march, in its window: raycast 21.7 ->
+// 14.6 ms, ATE unchanged on every sequence. A lost frame was measured from somewhere else: its
+// prediction is not windowed.
 void Pipeline::raycastForTracking(bool windowed) {
   raycast(state_.T_world_cam, params_.icp.photometric_weight > 0.f, params_.raycast.prediction_level, windowed);
   model_has_intensity_ = params_.icp.photometric_weight > 0.f;

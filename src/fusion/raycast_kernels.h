@@ -117,9 +117,12 @@ struct RaycastKernel {
   const float* range_max = nullptr;
   int tiles_x = 0;
   // Optional (data may be null): a depth image of this camera and level. Where it holds a
-  // depth d, the ray only looks for a surface within [d - window_m, d + window_m].
+  // depth d, the ray only looks for a surface within [d - window_m, d + window_m]; in a hole,
+  // within the window of the depths measured up to kWindowHoleRadiusPx pixels away, and where
+  // there are none, it casts no ray at all (Pipeline::raycastForTracking says why).
   ImageView<const float> window_depth;
   float window_m = 0.f;
+  static constexpr int kWindowHoleRadiusPx = 2;
 
   // Ray parameter where the ray leaves brick (bx, by, bz).
   VF_HD static float brickExit(Vec3f o, Vec3f d, int bx, int by, int bz) {
@@ -188,12 +191,11 @@ struct RaycastKernel {
     r.t = fmaxf(r.t, z_lo * z_to_t - 1.f);
     r.t_end = fminf(r.t_end, z_hi * z_to_t + 1.f);
     if (window_depth.data) {
-      const float d = window_depth[i];
-      if (d > 0.f) {
-        r.t = fmaxf(r.t, (d - window_m) * z_to_t);
-        r.t_end = fminf(r.t_end, (d + window_m) * z_to_t);
-        if (!(r.t < r.t_end)) return false;
-      }
+      float d_lo, d_hi;
+      if (!windowDepths(x, y, d_lo, d_hi)) return false;
+      r.t = fmaxf(r.t, (d_lo - window_m) * z_to_t);
+      r.t_end = fminf(r.t_end, (d_hi + window_m) * z_to_t);
+      if (!(r.t < r.t_end)) return false;
     }
     r.prev_t = 0.f;
     r.have_prev = false;
@@ -201,6 +203,21 @@ struct RaycastKernel {
     r.slot = -2;
     r.pixel = i;
     return true;
+  }
+
+  // The nearest and farthest depth measured at pixel (x, y) of window_depth or, where it has
+  // none, in the square of kWindowHoleRadiusPx around it; false when there is none.
+  VF_HD bool windowDepths(int x, int y, float& d_lo, float& d_hi) const {
+    d_lo = d_hi = window_depth(x, y);
+    if (d_lo > 0.f) return true;
+    const int r = kWindowHoleRadiusPx;
+    d_lo = 3.0e38f, d_hi = 0.f;
+    for (int yy = y - r > 0 ? y - r : 0; yy <= y + r && yy < window_depth.height; ++yy)
+      for (int xx = x - r > 0 ? x - r : 0; xx <= x + r && xx < window_depth.width; ++xx) {
+        const float d = window_depth(xx, yy);
+        if (d > 0.f) d_lo = fminf(d_lo, d), d_hi = fmaxf(d_hi, d);
+      }
+    return d_hi > 0.f;
   }
 
   // One step of the coarse march on single nearest-voxel reads (one load each); the trilinear
