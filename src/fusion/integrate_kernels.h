@@ -37,6 +37,7 @@ struct MarkBricksKernel {
   // step below float precision can never loop for ever.
   static constexpr int kMaxSteps = 256;
   static constexpr int kRecentBricks = 32;  // direct-mapped by brick coordinates
+  static constexpr int kStepLanes = 8;
 
   VF_HD int columns() const { return (depth.width + stride_px - 1) / stride_px; }
   VF_HD int rows() const { return (depth.height + stride_px - 1) / stride_px; }
@@ -69,28 +70,46 @@ struct MarkBricksKernel {
     const float span = (z_end - z_begin) / dz;
     const int steps = span < float(kMaxSteps) ? int(span + 0.5f) + 1 : kMaxSteps;
     Vec3i last_lo{0, 0, 0}, last_hi{-1, -1, -1};  // the bricks the previous step touched (none yet)
-    for (int s = 0; s <= steps; ++s) {
-      const float z = z_begin + float(s) * dz;
-      const Vec3f p = volume.toVoxel(T_world_cam * (ray_cam * z));
-      const Vec3i lo = brickOfVoxel(int(floorf(p.x - half_box)), int(floorf(p.y - half_box)), int(floorf(p.z - half_box)));
-      const Vec3i hi = brickOfVoxel(int(floorf(p.x + half_box)), int(floorf(p.y + half_box)), int(floorf(p.z + half_box)));
-      // Steps are shorter than a brick: most cover the same bricks as the step before.
-      if (lo.x == last_lo.x && lo.y == last_lo.y && lo.z == last_lo.z && hi.x == last_hi.x && hi.y == last_hi.y &&
-          hi.z == last_hi.z)
-        continue;
-      last_lo = lo, last_hi = hi;
-      for (int bz = lo.z; bz <= hi.z; ++bz)
-        for (int by = lo.y; by <= hi.y; ++by)
-          for (int bx = lo.x; bx <= hi.x; ++bx) {
-            // Touching a brick twice changes nothing, so forgetting one (a collision) is harmless.
-            const Vec3i b{bx, by, bz};
-            const uint64_t key = brickKey(b);
-            uint64_t& remembered = recent[uint32_t(bx * 7 + by * 13 + bz * 29) % kRecentBricks];
-            if (remembered == key) continue;
-            remembered = key;
-            touch(b);
-          }
+    // The steps' brick boxes kStepLanes at a time, in a loop of their own so that the CPU
+    // compiler computes them in vector lanes (a band is about that many steps); the touches
+    // follow one step at a time.
+    for (int s0 = 0; s0 <= steps; s0 += kStepLanes) {
+      int box[6][kStepLanes];  // lo x, y, z, hi x, y, z (bricks)
+      VF_SIMD_LOOP
+      for (int j = 0; j < kStepLanes; ++j) {
+        const float z = z_begin + float(s0 + j) * dz;
+        const Vec3f p = volume.toVoxel(T_world_cam * (ray_cam * z));
+        box[0][j] = int(floorf(p.x - half_box)) >> kBrickShift;
+        box[1][j] = int(floorf(p.y - half_box)) >> kBrickShift;
+        box[2][j] = int(floorf(p.z - half_box)) >> kBrickShift;
+        box[3][j] = int(floorf(p.x + half_box)) >> kBrickShift;
+        box[4][j] = int(floorf(p.y + half_box)) >> kBrickShift;
+        box[5][j] = int(floorf(p.z + half_box)) >> kBrickShift;
+      }
+      for (int j = 0; j < kStepLanes && s0 + j <= steps; ++j) {
+        const Vec3i lo{box[0][j], box[1][j], box[2][j]}, hi{box[3][j], box[4][j], box[5][j]};
+        // Steps are shorter than a brick: most cover the same bricks as the step before.
+        if (lo.x == last_lo.x && lo.y == last_lo.y && lo.z == last_lo.z && hi.x == last_hi.x &&
+            hi.y == last_hi.y && hi.z == last_hi.z)
+          continue;
+        last_lo = lo, last_hi = hi;
+        touchBox(lo, hi, recent);
+      }
     }
+  }
+
+  VF_HD void touchBox(Vec3i lo, Vec3i hi, uint64_t* recent) const {
+    for (int bz = lo.z; bz <= hi.z; ++bz)
+      for (int by = lo.y; by <= hi.y; ++by)
+        for (int bx = lo.x; bx <= hi.x; ++bx) {
+          // Touching a brick twice changes nothing, so forgetting one (a collision) is harmless.
+          const Vec3i b{bx, by, bz};
+          const uint64_t key = brickKey(b);
+          uint64_t& remembered = recent[uint32_t(bx * 7 + by * 13 + bz * 29) % kRecentBricks];
+          if (remembered == key) continue;
+          remembered = key;
+          touch(b);
+        }
   }
 
   VF_HD void touch(Vec3i brick) const {
