@@ -37,15 +37,33 @@ TriangleMesh brickSurfaceSamples(const BrickVolumeView& v, int keep_one_in) {
   const float sdf_scale = v.truncation_m / kTsdfScale;  // as the grids' values (vdb/brick_leaves.h)
   const double voxel = double(v.voxel_size_m);
 
-  // The signed distance of voxel (x, y, z), when that voxel is observed (weight > 0).
-  auto observed = [&](size_t home, const Vec3i& home_brick, int x, int y, int z, float& value) {
+  // The bricks beside brick n across each face ([axis][0: below, 1: above]; kNoBrick where none),
+  // looked up once per brick: more than half of a brick's voxels have a 6-neighbour in another.
+  constexpr size_t kNoBrick = ~size_t(0);
+  struct FaceNeighbours {
+    size_t across[3][2];
+  };
+  auto faceNeighbours = [&](const Vec3i& b) {
+    FaceNeighbours f;
+    for (int axis = 0; axis < 3; ++axis)
+      for (int side = 0; side < 2; ++side) {
+        Vec3i c = b;
+        (axis == 0 ? c.x : axis == 1 ? c.y : c.z) += side ? 1 : -1;
+        const auto it = brick_at.find(c);
+        f.across[axis][side] = it == brick_at.end() ? kNoBrick : it->second;
+      }
+    return f;
+  };
+  // The signed distance of voxel (x, y, z), a 6-neighbour of a voxel of brick `home`, when that
+  // voxel is observed (weight > 0).
+  auto observed = [&](size_t home, const Vec3i& home_brick, const FaceNeighbours& faces, int x, int y, int z,
+                      float& value) {
     const Vec3i b = brickOfVoxel(x, y, z);
     size_t n = home;
-    if (!BrickCoordEqual()(b, home_brick)) {
-      const auto it = brick_at.find(b);
-      if (it == brick_at.end()) return false;
-      n = it->second;
-    }
+    if (b.x != home_brick.x) n = faces.across[0][b.x > home_brick.x];
+    else if (b.y != home_brick.y) n = faces.across[1][b.y > home_brick.y];
+    else if (b.z != home_brick.z) n = faces.across[2][b.z > home_brick.z];
+    if (n == kNoBrick) return false;
     const TsdfVoxel t = v.tsdf[n * kBrickVoxels + size_t(localVoxelIndex(x, y, z))];
     value = float(t.tsdf) * sdf_scale;
     return t.weight > 0;
@@ -68,6 +86,7 @@ TriangleMesh brickSurfaceSamples(const BrickVolumeView& v, int keep_one_in) {
     for (size_t k = task * kBricksPerTask; k < end; ++k) {
       const size_t n = order[k];
       const Vec3i b = v.coords[n];
+      const FaceNeighbours faces = faceNeighbours(b);
       for (int i = 0; i < kBrickVoxels; ++i) {
         const TsdfVoxel t = v.tsdf[n * kBrickVoxels + size_t(i)];
         if (t.weight == 0) continue;
@@ -77,7 +96,7 @@ TriangleMesh brickSurfaceSamples(const BrickVolumeView& v, int keep_one_in) {
         const float value = float(t.tsdf) * sdf_scale;
         std::array<double, 3> nrm;
         const bool on_surface = surfaceSample(value, voxel, [&](int axis, int side, float& neighbour) {
-          return observed(n, b, x + (axis == 0 ? side : 0), y + (axis == 1 ? side : 0), z + (axis == 2 ? side : 0),
+          return observed(n, b, faces, x + (axis == 0 ? side : 0), y + (axis == 1 ? side : 0), z + (axis == 2 ? side : 0),
                           neighbour);
         }, nrm);
         if (!on_surface) continue;
