@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <string>
 
 // The remaps below reproduce cv::remap (OpenCV 4, imgwarp.cpp) for float maps bit for bit, so
@@ -72,6 +73,35 @@ Undistorter::BilinearTap Undistorter::bilinearTap(float x, float y) const {
   return tap;
 }
 
+namespace {
+
+// Two channels of an RGBA pixel in the two 32-bit halves of a word: r (or b) low, g (or a) high.
+// Four taps weighted to 2^kCoefBits in all stay below 2^23 in each half, so one multiply weighs
+// both channels and no carry crosses between them.
+inline uint64_t lowChannels(uint32_t p) { return (p & 0xFFu) | uint64_t(p & 0xFF00u) << 24; }
+inline uint64_t highChannels(uint32_t p) { return ((p >> 16) & 0xFFu) | uint64_t(p >> 24) << 32; }
+inline uint8_t roundedChannel(uint64_t sum) {
+  return uint8_t((uint32_t(sum) + (1u << (kCoefBits - 1))) >> kCoefBits);  // <= 255: the weights sum to 2^15
+}
+
+// The bilinear blend of the 2x2 pixels from p00 (row stride `width`) with weights w, as the
+// per-channel sums of remapBilinearRgba's border path, two channels per multiply.
+inline Rgb8 blendInterior(const Rgb8* p00, int width, const int* w) {
+  uint32_t p[4];
+  std::memcpy(&p[0], p00, 4);
+  std::memcpy(&p[1], p00 + 1, 4);
+  std::memcpy(&p[2], p00 + width, 4);
+  std::memcpy(&p[3], p00 + width + 1, 4);
+  uint64_t rg = 0, ba = 0;
+  for (int k = 0; k < 4; ++k) {
+    rg += lowChannels(p[k]) * uint64_t(w[k]);
+    ba += highChannels(p[k]) * uint64_t(w[k]);
+  }
+  return {roundedChannel(rg), roundedChannel(rg >> 32), roundedChannel(ba), roundedChannel(ba >> 32)};
+}
+
+}  // namespace
+
 // Bilinear, RGBA 8 bit, constant border `outside` for samples beyond the image.
 void Undistorter::remapBilinearRgba(const Rgb8* src, Rgb8* dst, Rgb8 outside) const {
   const BilinearWeights& table = bilinearWeights();
@@ -85,11 +115,14 @@ void Undistorter::remapBilinearRgba(const Rgb8* src, Rgb8* dst, Rgb8 outside) co
     const int* w = table.w[tap.weights];
     // first is -1 or less at the top and left borders: each tap is read only where it is inside.
     const int32_t f = tap.first;
-    const bool all = tap.inside == 15;  // the common case: no tap at the border
-    const Rgb8& p00 = all || (tap.inside & 1) ? src[f] : outside;
-    const Rgb8& p01 = all || (tap.inside & 2) ? src[f + 1] : outside;
-    const Rgb8& p10 = all || (tap.inside & 4) ? src[f + width_] : outside;
-    const Rgb8& p11 = all || (tap.inside & 8) ? src[f + width_ + 1] : outside;
+    if (tap.inside == 15) {  // the common case: no tap at the border
+      dst[i] = blendInterior(src + f, width_, w);
+      continue;
+    }
+    const Rgb8& p00 = (tap.inside & 1) ? src[f] : outside;
+    const Rgb8& p01 = (tap.inside & 2) ? src[f + 1] : outside;
+    const Rgb8& p10 = (tap.inside & 4) ? src[f + width_] : outside;
+    const Rgb8& p11 = (tap.inside & 8) ? src[f + width_ + 1] : outside;
     uint8_t out[4];
     for (int k = 0; k < 4; ++k) {
       const int sum = channels(p00, k) * w[0] + channels(p01, k) * w[1] + channels(p10, k) * w[2] +
