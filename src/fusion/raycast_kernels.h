@@ -296,7 +296,7 @@ struct RaycastKernel {
   }
 
   VF_HD bool observedVoxel(Vec3f g) const {
-    const int64_t index = volume.findVoxel(int(floorf(g.x + 0.5f)), int(floorf(g.y + 0.5f)), int(floorf(g.z + 0.5f)));
+    const int64_t index = nearestVoxel(volume, g);
     return index >= 0 && volume.tsdf[index].weight > 0;
   }
 

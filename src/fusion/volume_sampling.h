@@ -60,9 +60,15 @@ VF_HD bool sampleTsdf(const VolumeView& volume, Vec3f g, float& out) {
   return true;
 }
 
+// Index of the voxel nearest to continuous voxel coordinate g, or -1 where its brick was never
+// allocated.
+VF_HD int64_t nearestVoxel(const VolumeView& volume, Vec3f g) {
+  return volume.findVoxel(int(floorf(g.x + 0.5f)), int(floorf(g.y + 0.5f)), int(floorf(g.z + 0.5f)));
+}
+
 // Color of the voxel nearest to g, if it has one.
 VF_HD bool nearestColor(const VolumeView& volume, Vec3f g, Rgb8& out) {
-  const int64_t index = volume.findVoxel(int(floorf(g.x + 0.5f)), int(floorf(g.y + 0.5f)), int(floorf(g.z + 0.5f)));
+  const int64_t index = nearestVoxel(volume, g);
   if (index < 0) return false;
   out = volume.color[index];
   return out.a > 0;
