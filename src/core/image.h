@@ -46,6 +46,15 @@ class Image {
   std::vector<T> pixels_;
 };
 
+// Work items of an image sampled at every stride-th pixel in x and y, and the pixel of each.
+VF_HD int stridedPixelCount(int width, int height, int stride) {
+  return ((width + stride - 1) / stride) * ((height + stride - 1) / stride);
+}
+VF_HD int stridedPixel(int item, int width, int stride) {
+  const int cols = (width + stride - 1) / stride;
+  return (item / cols) * stride * width + (item % cols) * stride;
+}
+
 using DepthImage = Image<float>;   // metres, 0 = no reading
 using ColorImage = Image<Rgb8>;    // sRGB 8 bit
 using LabelImage = Image<uint16_t>;  // class id per pixel

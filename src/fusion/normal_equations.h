@@ -40,13 +40,4 @@ VF_HD bool singleRow(const Kernel& kernel, int item, float* row) {
   return true;
 }
 
-// Work items of an image sampled at every stride-th pixel in x and y, and the pixel of each.
-VF_HD int stridedPixelCount(int width, int height, int stride) {
-  return ((width + stride - 1) / stride) * ((height + stride - 1) / stride);
-}
-VF_HD int stridedPixel(int item, int width, int stride) {
-  const int cols = (width + stride - 1) / stride;
-  return (item / cols) * stride * width + (item % cols) * stride;
-}
-
 }  // namespace vf

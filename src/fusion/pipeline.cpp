@@ -116,8 +116,9 @@ void Pipeline::measure(const RgbdFrame& frame) {
   for (int l = 0; l < kPyramidLevels; ++l) {
     parallelFor(device_, b.depth[l].size(),
                 VertexMapKernel{constView(b.depth[l]), b.vertex[l].view(), intrinsics_.atLevel(l)});
-    parallelFor(device_, b.depth[l].size(),
-                NormalMapKernel{constView(b.vertex[l]), b.normal[l].view(), m.normal_max_jump_m * float(1 << l)});
+    const NormalMapKernel normals{constView(b.vertex[l]), b.normal[l].view(), m.normal_max_jump_m * float(1 << l),
+                                  params_.icp.stride_px[size_t(l)]};
+    parallelFor(device_, normals.itemCount(), normals);
   }
 }
 
