@@ -15,6 +15,7 @@
 #include <jpeglib.h>
 
 #include "core/error.h"
+#include "io/png_inflate.h"
 
 // libpng and libjpeg report errors by longjmp. Each function below that calls setjmp holds only
 // plain data between setjmp and the library calls (no object with a destructor that a longjmp
@@ -443,6 +444,17 @@ DepthImage decodeDepthPng(const uint8_t* data, size_t size, const std::string& n
     throw Error(what + " " + name + " is a JPEG; depth must be a 16-bit single-channel PNG (value / " +
                 std::to_string(int(units_per_metre)) + " = metres)");
   if (!isPng(data, size)) notAnImage(name, what, size);
+  const float inv = 1.f / units_per_metre;
+  png_inflate::Rows rows;
+  if (png_inflate::decode(data, size, png_inflate::Layout::Grey16, kMaxImagePixels, rows)) {
+    DepthImage depth(rows.width, rows.height);
+    for (int y = 0; y < rows.height; ++y) {
+      const uint8_t* in = rows.row(y);
+      float* out = depth.data() + size_t(y) * rows.width;
+      for (int x = 0; x < rows.width; ++x) out[x] = float(uint16_t(in[2 * x] << 8 | in[2 * x + 1])) * inv;
+    }
+    return depth;
+  }
   PngReader png(data, size, name, what);
   const ImageHeader h = png.readHeader();
   if (h.channels != 1 || h.bits != 16)
@@ -451,7 +463,6 @@ DepthImage decodeDepthPng(const uint8_t* data, size_t size, const std::string& n
   std::vector<uint16_t> raw(size_t(h.width) * h.height);
   png.readGrey(reinterpret_cast<uint8_t*>(raw.data()));
   DepthImage depth(h.width, h.height);
-  const float inv = 1.f / units_per_metre;
   float* out = depth.data();
   for (size_t i = 0; i < raw.size(); ++i) out[i] = float(raw[i]) * inv;
   return depth;
@@ -466,6 +477,18 @@ ColorImage decodeColorImage(const uint8_t* data, size_t size, const std::string&
     return color;
   }
   if (!isPng(data, size)) notAnImage(name, what, size);
+  png_inflate::Rows rows;
+  const bool rgb = png_inflate::decode(data, size, png_inflate::Layout::Rgb8, kMaxImagePixels, rows);
+  if (rgb || png_inflate::decode(data, size, png_inflate::Layout::Rgba8, kMaxImagePixels, rows)) {
+    ColorImage color(rows.width, rows.height);
+    const int step = rgb ? 3 : 4;
+    for (int y = 0; y < rows.height; ++y) {
+      const uint8_t* in = rows.row(y);
+      Rgb8* out = color.data() + size_t(y) * rows.width;
+      for (int x = 0; x < rows.width; ++x, in += step) out[x] = {in[0], in[1], in[2], 255};
+    }
+    return color;
+  }
   PngReader png(data, size, name, what);
   const ImageHeader h = png.readHeader();
   ColorImage color(h.width, h.height);
@@ -492,6 +515,21 @@ Image<uint16_t> decodeGreyPng(const uint8_t* data, size_t size, const std::strin
     return {};
   }
   if (!isPng(data, size)) notAnImage(name, what, size);
+  png_inflate::Rows rows;
+  const bool wide = png_inflate::decode(data, size, png_inflate::Layout::Grey16, kMaxImagePixels, rows);
+  if (wide || png_inflate::decode(data, size, png_inflate::Layout::Grey8, kMaxImagePixels, rows)) {
+    header.width = rows.width;
+    header.height = rows.height;
+    header.channels = 1;
+    header.bits = wide ? 16 : 8;
+    Image<uint16_t> out(rows.width, rows.height);
+    for (int y = 0; y < rows.height; ++y) {
+      const uint8_t* in = rows.row(y);
+      uint16_t* line = out.data() + size_t(y) * rows.width;
+      for (int x = 0; x < rows.width; ++x) line[x] = wide ? uint16_t(in[2 * x] << 8 | in[2 * x + 1]) : in[x];
+    }
+    return out;
+  }
   PngReader png(data, size, name, what);
   header = png.readHeader();
   if (header.channels != 1) return {};

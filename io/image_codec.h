@@ -1,5 +1,6 @@
 #pragma once
-// PNG and JPEG decoding and PNG encoding with libpng, libjpeg-turbo and zlib alone: what the frame
+// PNG and JPEG decoding and PNG encoding with libpng (the common PNGs inflated by libdeflate,
+// io/png_inflate.h), libjpeg-turbo and zlib alone: what the frame
 // readers need, without OpenCV and its dependency tree, so that the GPU bundle can carry them
 // (cuda/README.md). Decoded pixels are those cv::imread(IMREAD_UNCHANGED) gives, followed by the
 // conversions image_io.h's readers have always made (tests/io/image_codec_test.cpp compares the

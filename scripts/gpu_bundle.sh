@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds the GPU check bundle into DIR: everything a GPU check of vdbfuse needs on a bare x86-64
 # Linux with an NVIDIA driver, in at most 48 MiB (cuda/README.md, "The GPU bundle"):
-#   bin/   cuda_memory_test, cuda_parity_test, fusion_bench (sm_90, stripped; libpng, libjpeg and
+#   bin/   cuda_memory_test, cuda_parity_test, fusion_bench (sm_90, stripped; libpng, libdeflate, libjpeg and
 #          zlib linked in; rpath $ORIGIN/../lib)
 #   lib/   the shared libraries they load beyond glibc (TBB, libstdc++, libgcc_s); the CUDA driver
 #          comes from the machine, the CUDA runtime is linked in

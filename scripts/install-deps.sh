@@ -9,7 +9,7 @@ $SUDO apt-get install -y -qq --no-install-recommends \
   build-essential cmake ninja-build ccache pkg-config lld \
   libeigen3-dev libtbb-dev libopenvdb-dev libboost-iostreams-dev \
   libopencv-dev libassimp-dev libzip-dev nlohmann-json3-dev libcli11-dev \
-  libpng-dev libjpeg62-turbo-dev zlib1g-dev \
+  libpng-dev libdeflate-dev libjpeg62-turbo-dev zlib1g-dev \
   libvtk9-dev xvfb xauth \
   libgtest-dev libbenchmark-dev \
   blender python3-numpy time bc

@@ -2,7 +2,6 @@
 // on real TUM and 7-Scenes frames and on every PNG/JPEG layout the readers accept, and refusals
 // (naming the file) of truncated files and of headers too large to allocate.
 #include <gtest/gtest.h>
-#include <zlib.h>
 
 #include <algorithm>
 #include <cmath>
@@ -16,6 +15,7 @@
 #include "io/image_codec.h"
 #include "io/image_io.h"
 #include "opencv_reference.h"
+#include "png_builder.h"
 #include "test_data.h"
 
 namespace vf {
@@ -46,41 +46,7 @@ void writeBytes(const std::string& path, const uint8_t* data, size_t size) {
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
-void appendBe32(std::string& s, uint32_t v) {
-  for (int shift = 24; shift >= 0; shift -= 8) s += char((v >> shift) & 0xFF);
-}
-
-void appendChunk(std::string& png, const std::string& type, const std::string& data) {
-  appendBe32(png, uint32_t(data.size()));
-  const std::string body = type + data;
-  png += body;
-  appendBe32(png, uint32_t(crc32(0, reinterpret_cast<const Bytef*>(body.data()), uInt(body.size()))));
-}
-
-// A PNG from its parts: IHDR fields, optional PLTE / tRNS bodies, and the unfiltered rows
-// (`rows` without the filter byte; each row gets filter 0).
-std::string makePng(uint32_t width, uint32_t height, int bit_depth, int color_type, const std::string& rows,
-                    const std::string& plte = "", const std::string& trns = "") {
-  std::string ihdr;
-  appendBe32(ihdr, width);
-  appendBe32(ihdr, height);
-  ihdr += char(bit_depth);
-  ihdr += char(color_type);
-  ihdr += std::string(3, '\0');  // deflate, adaptive filters, no interlace
-  std::string png = "\x89PNG\r\n\x1a\n";
-  appendChunk(png, "IHDR", ihdr);
-  if (!plte.empty()) appendChunk(png, "PLTE", plte);
-  if (!trns.empty()) appendChunk(png, "tRNS", trns);
-  std::string raw;
-  const size_t row_bytes = height ? rows.size() / height : 0;
-  for (uint32_t y = 0; y < height; ++y) raw += '\0' + rows.substr(y * row_bytes, row_bytes);
-  std::vector<Bytef> packed(compressBound(uLong(raw.size())) + 16);
-  uLongf packed_size = uLongf(packed.size());
-  compress(packed.data(), &packed_size, reinterpret_cast<const Bytef*>(raw.data()), uLong(raw.size()));
-  appendChunk(png, "IDAT", std::string(reinterpret_cast<const char*>(packed.data()), packed_size));
-  appendChunk(png, "IEND", "");
-  return png;
-}
+using test::makePng;
 
 void writeString(const std::string& path, const std::string& bytes) {
   writeBytes(path, reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size());

@@ -69,10 +69,10 @@ int main(int argc, char** argv) {
     }
     std::printf("%s: %zu depth and %zu colour PNGs, %d rounds\n", argv[1], depth.size(), rgb.size(), rounds);
     std::printf("depth (16-bit grey PNG -> metres):\n");
-    report("image_codec (libpng)", codec_depth);
+    report("image_codec", codec_depth);
     report("OpenCV imread + convert", cv_depth);
     std::printf("colour (8-bit RGB PNG -> RGBA):\n");
-    report("image_codec (libpng)", codec_rgb);
+    report("image_codec", codec_rgb);
     report("OpenCV imread + cvtColor", cv_rgb);
     return 0;
   } catch (const vf::Error& e) {
