@@ -1,7 +1,5 @@
 #include "io/record3d_export.h"
 
-#include <opencv2/imgcodecs.hpp>
-
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
@@ -11,6 +9,7 @@
 
 #include "core/error.h"
 #include "io/image_codec.h"
+#include "io/opencv_plugin.h"
 #include "core/mapped_file.h"
 
 namespace vf {
@@ -28,30 +27,12 @@ std::vector<uint8_t> readBytes(const std::string& path) {
   return {bytes.begin(), bytes.end()};
 }
 
-// float32 metres from an EXR: single channel as is; for RGB(A) files OpenCV returns BGR order and
-// the depth is the R channel.
+// float32 metres from an EXR (OpenCV's decoder, in the OpenCV module).
 DepthImage readDepthExr(const std::string& path) {
   enableOpenCvExr();
   const std::vector<uint8_t> bytes = readBytes(path);
   decodeExrHeader(bytes.data(), bytes.size(), path, "EXR depth");  // sizes checked before OpenCV allocates
-  const cv::Mat raw(1, int(bytes.size()), CV_8UC1, const_cast<uint8_t*>(bytes.data()));
-  cv::Mat m = cv::imdecode(raw, cv::IMREAD_UNCHANGED);
-  if (m.empty())
-    throw Error(path + ": cannot read EXR depth (missing, corrupt, or OpenCV built without OpenEXR)");
-  if (m.depth() != CV_32F)
-    throw Error(path + ": EXR depth must be 32-bit float, got OpenCV depth " +
-                std::to_string(m.depth()));
-  if (m.channels() > 1) {
-    cv::Mat channel;
-    cv::extractChannel(m, channel, 2 < m.channels() ? 2 : 0);
-    m = channel;
-  }
-  DepthImage depth(m.cols, m.rows);
-  for (int y = 0; y < m.rows; ++y) {
-    const float* row = m.ptr<float>(y);
-    for (int x = 0; x < m.cols; ++x) depth(x, y) = row[x];
-  }
-  return depth;
+  return openCvPlugin(path + ": reading EXR depth").decodeExrDepth(bytes, path);
 }
 
 // Depth maps are 0.exr .. N-1.exr; one missing in the middle is an error naming it, not the end.

@@ -2,8 +2,6 @@
 
 #include <tbb/parallel_for.h>
 
-#include <opencv2/imgcodecs.hpp>
-
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -15,6 +13,7 @@
 #include "core/atomic_output.h"
 #include "core/error.h"
 #include "io/frame_list_source.h"
+#include "io/image_codec.h"
 #include "io/image_io.h"
 
 namespace vf {
@@ -28,25 +27,17 @@ std::string tumTimestampString(double t) {
 
 namespace {
 
-// Encoded in memory, then written through a temp file and renamed (io/image_io.h).
-void writePng(const fs::path& target, const cv::Mat& image) {
-  std::vector<uchar> png;
-  if (!cv::imencode(".png", image, png)) throw Error(target.string() + ": cannot encode PNG");
-  writeFileAtomic(target.string(), std::string(png.begin(), png.end()));
-}
-
-// Not writeDepthPng: that one clamps to 65535, a converted dataset writes no reading instead.
-cv::Mat depthToPng(const DepthImage& depth) {
-  cv::Mat out(depth.height(), depth.width(), CV_16UC1);
-  for (int y = 0; y < depth.height(); ++y) {
-    uint16_t* row = out.ptr<uint16_t>(y);
+// Encoded in memory, then written through a temp file and renamed (io/image_io.h). Not
+// writeDepthPng: that one clamps to 65535, a converted dataset writes no reading instead.
+void writeDepthPngOrNoReading(const fs::path& target, const DepthImage& depth) {
+  std::vector<uint16_t> units(size_t(depth.width()) * depth.height());
+  for (int y = 0; y < depth.height(); ++y)
     for (int x = 0; x < depth.width(); ++x) {
-      const double units = std::round(double(depth(x, y)) * double(kTumDepthUnitsPerMetre));
+      const double u = std::round(double(depth(x, y)) * double(kTumDepthUnitsPerMetre));
       // Beyond 13.1 m a 16-bit value cannot hold the depth; no reading beats a wrong one.
-      row[x] = (std::isfinite(units) && units > 0 && units <= 65535) ? uint16_t(units) : 0;
+      units[size_t(y) * depth.width() + x] = (std::isfinite(u) && u > 0 && u <= 65535) ? uint16_t(u) : 0;
     }
-  }
-  return out;
+  writeFileAtomic(target.string(), encodePng(units.data(), depth.width(), depth.height(), 1, 16, target.string()));
 }
 
 struct FrameRecord {
@@ -83,7 +74,7 @@ TumWriteResult writeTumFolder(const FrameSource& source, const std::string& fold
     r.timestamp = frame.timestamp;
     r.pose = frame.T_world_cam_given;
     const std::string stem = tumTimestampString(frame.timestamp);
-    writePng(dir / "depth" / (stem + ".png"), depthToPng(frame.depth));
+    writeDepthPngOrNoReading(dir / "depth" / (stem + ".png"), frame.depth);
     if (!frame.color.empty()) {
       // TUM pairs colour and depth pixel for pixel: a larger colour image (iPhone) is averaged
       // down to the depth size.

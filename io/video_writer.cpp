@@ -1,13 +1,11 @@
 #include "io/video_writer.h"
 
-#include <opencv2/imgproc.hpp>
-#include <opencv2/videoio.hpp>
-
 #include <cstdio>
 #include <filesystem>
 
 #include "core/atomic_output.h"
 #include "core/error.h"
+#include "io/opencv_plugin.h"
 
 namespace vf {
 
@@ -17,7 +15,7 @@ struct VideoWriter::Impl {
   AtomicFile file;
   std::string temp_path;
   int width = 0, height = 0;
-  cv::VideoWriter writer;
+  std::unique_ptr<VideoSink> writer;
   bool closed = false;
 };
 
@@ -25,27 +23,23 @@ VideoWriter::VideoWriter(const std::string& path, int width, int height, double 
     : impl_(std::make_unique<Impl>(path)) {
   impl_->width = width;
   impl_->height = height;
-  const int fourcc = cv::VideoWriter::fourcc('m', 'p', '4', 'v');
-  if (!impl_->writer.open(impl_->temp_path, fourcc, fps, cv::Size(width, height), true))
-    throw Error(path + ": cannot open a video writer (mp4v) for this file");
+  impl_->writer = openCvPlugin(path + ": writing a video").openMp4(impl_->temp_path, width, height, fps);
+  if (!impl_->writer) throw Error(path + ": cannot open a video writer (mp4v) for this file");
 }
 
 VideoWriter::~VideoWriter() {
-  if (!impl_->closed) impl_->writer.release();  // the AtomicFile removes the temporary
+  if (!impl_->closed && impl_->writer) impl_->writer->release();  // the AtomicFile removes the temporary
 }
 
 void VideoWriter::write(const ColorImage& frame) {
   if (frame.width() != impl_->width || frame.height() != impl_->height)
     throw Error(impl_->path + ": video frames must all be " + std::to_string(impl_->width) + "x" +
                 std::to_string(impl_->height));
-  cv::Mat rgba(frame.height(), frame.width(), CV_8UC4, const_cast<Rgb8*>(frame.data()));
-  cv::Mat bgr;
-  cv::cvtColor(rgba, bgr, cv::COLOR_RGBA2BGR);
-  impl_->writer.write(bgr);
+  impl_->writer->write(frame);
 }
 
 void VideoWriter::close() {
-  impl_->writer.release();
+  impl_->writer->release();
   impl_->closed = true;
   // OpenCV reports no write errors; an empty file is the one failure that can be seen.
   std::error_code ec;

@@ -1,5 +1,5 @@
 #pragma once
-// MP4 video of rendered frames (OpenCV). Written to a temporary file beside the target and
+// MP4 video of rendered frames (OpenCV, through io/opencv_plugin.h). Written to a temporary file beside the target and
 // renamed into place by close(), so an interrupted run leaves no half-written video.
 #include <memory>
 #include <string>
