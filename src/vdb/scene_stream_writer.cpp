@@ -82,12 +82,15 @@ class StreamingSceneWriter : public openvdb::io::Archive {
 
  private:
   // The bricks with an observation, ordered as the tree's leaf iterator visits their leaves.
+  // The masks (a pass over every voxel) are taken in parallel, once per brick.
   BrickTopology sortedTopology() const {
+    std::vector<LeafMask> masks(v_.brick_count);
+    std::vector<uint8_t> active(v_.brick_count);
+    tbb::parallel_for(size_t(0), v_.brick_count, [&](size_t n) { active[n] = source_.activeMask(n, masks[n]); });
     openvdb::MaskTree order_tree;
     std::unordered_map<openvdb::Coord, size_t, CoordHash> brick_at;
-    LeafMask mask;
     for (size_t n = 0; n < v_.brick_count; ++n)
-      if (source_.activeMask(n, mask)) {
+      if (active[n]) {
         brick_at.emplace(source_.origin(n), n);
         order_tree.touchLeaf(source_.origin(n));
       }
@@ -97,8 +100,7 @@ class StreamingSceneWriter : public openvdb::io::Archive {
     for (auto leaf = order_tree.cbeginLeaf(); leaf; ++leaf) {
       const size_t n = brick_at.at(leaf->origin());
       t.bricks.push_back(n);
-      source_.activeMask(n, mask);
-      t.masks.push_back(mask);
+      t.masks.push_back(masks[n]);
     }
     return t;
   }
