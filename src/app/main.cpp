@@ -5,12 +5,46 @@
 #include <exception>
 #include <filesystem>
 #include <new>
+#include <string>
 
 #include "app/command_registry.h"
 #include "app/field_flags.h"
 #include "app/run_control.h"
 #include "core/error.h"
 #include "core/version.h"
+
+namespace {
+
+// Runs the command line; returns main's status after reporting any error.
+int runCommandLine(CLI::App& app, int argc, char** argv) {
+  const auto report = [](const char* kind, const std::string& what) {
+    vf::app::awaitSignalTermination();  // a failure caused by a signal's cleanup is not reported
+    std::fprintf(stderr, "vdbfuse: %s: %s\n", kind, what.c_str());
+  };
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const vf::app::ExitWithStatus& e) {
+    return e.status;  // the command already said why
+  } catch (const vf::Error& e) {
+    report("error", vf::app::withOptionNames(e.what()));
+    return 1;
+  } catch (const std::filesystem::filesystem_error& e) {
+    // A file operation the command did not expect to fail (read-only folder, vanished file).
+    report("error", e.what());
+    return 1;
+  } catch (const std::bad_alloc&) {
+    report("error", "out of memory (an input states sizes this machine cannot hold)");
+    return 1;
+  } catch (const std::exception& e) {
+    report("internal error", e.what());
+    return 2;
+  }
+  return 0;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   vf::app::startSignalThread();  // before any other thread exists (see run_control.h)
@@ -19,25 +53,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", VDBFUSE_VERSION_STRING);
   app.require_subcommand(1);
   vf::app::setupAllCommands(app);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e);
-  } catch (const vf::app::ExitWithStatus& e) {
-    return e.status;  // the command already said why
-  } catch (const vf::Error& e) {
-    std::fprintf(stderr, "vdbfuse: error: %s\n", vf::app::withOptionNames(e.what()).c_str());
-    return 1;
-  } catch (const std::filesystem::filesystem_error& e) {
-    // A file operation the command did not expect to fail (read-only folder, vanished file).
-    std::fprintf(stderr, "vdbfuse: error: %s\n", e.what());
-    return 1;
-  } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "vdbfuse: error: out of memory (an input states sizes this machine cannot hold)\n");
-    return 1;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "vdbfuse: internal error: %s\n", e.what());
-    return 2;
-  }
-  return 0;
+  const int status = runCommandLine(app, argc, argv);
+  vf::app::awaitSignalTermination();  // a signal that came while the command ended decides the status
+  return status;
 }

@@ -16,6 +16,7 @@ namespace {
 
 std::atomic<int> g_stop_signal{0};
 std::atomic<bool> g_graceful{false};
+std::atomic<bool> g_terminating{false};
 std::mutex g_message_mutex;
 std::string g_stop_message;
 
@@ -28,6 +29,7 @@ sigset_t stopSignalSet() {
 }
 
 [[noreturn]] void terminateBy(int signal) {
+  g_terminating = true;
   removeAllPendingOutputs();
   // Die of the signal itself, so that the parent sees what happened (status 128 + signal).
   struct sigaction action {};
@@ -62,6 +64,13 @@ void startSignalThread() {
   const sigset_t set = stopSignalSet();
   pthread_sigmask(SIG_BLOCK, &set, nullptr);
   std::thread(handleSignals).detach();
+}
+
+void awaitSignalTermination() {
+  if (!g_terminating.load()) return;
+  // The signal thread ends the process by the signal once the outputs are gone; until then this
+  // thread must neither report nor exit (signals stay blocked here, so pause() only waits).
+  for (;;) pause();
 }
 
 void restoreSignalMask() {

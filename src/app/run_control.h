@@ -25,6 +25,11 @@ struct ExitWithStatus : std::runtime_error {
 // Blocks SIGINT and SIGTERM in the calling thread (and so in every thread started after it) and
 // starts the thread that handles them. Call before any other thread exists.
 void startSignalThread();
+// Returns at once unless a signal is ending the process; then it never returns. main() calls it
+// before reporting an error or returning: removing the outputs makes a running command fail (its
+// temporary vanished), and that failure must neither be printed nor end the process with its own
+// status in place of the signal's.
+void awaitSignalTermination();
 // Unblocks them again in this thread, e.g. before exec() hands the process to another program.
 void restoreSignalMask();
 
