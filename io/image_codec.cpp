@@ -447,7 +447,7 @@ DepthImage decodeDepthPng(const uint8_t* data, size_t size, const std::string& n
   const float inv = 1.f / units_per_metre;
   png_inflate::Rows rows;
   if (png_inflate::decode(data, size, png_inflate::Layout::Grey16, kMaxImagePixels, rows)) {
-    DepthImage depth(rows.width, rows.height);
+    DepthImage depth = DepthImage::forOverwrite(rows.width, rows.height);
     for (int y = 0; y < rows.height; ++y) {
       const uint8_t* in = rows.row(y);
       float* out = depth.data() + size_t(y) * rows.width;
@@ -462,7 +462,7 @@ DepthImage decodeDepthPng(const uint8_t* data, size_t size, const std::string& n
                 std::to_string(int(units_per_metre)) + " = metres)");
   std::vector<uint16_t> raw(size_t(h.width) * h.height);
   png.readGrey(reinterpret_cast<uint8_t*>(raw.data()));
-  DepthImage depth(h.width, h.height);
+  DepthImage depth = DepthImage::forOverwrite(h.width, h.height);
   float* out = depth.data();
   for (size_t i = 0; i < raw.size(); ++i) out[i] = float(raw[i]) * inv;
   return depth;
@@ -480,7 +480,7 @@ ColorImage decodeColorImage(const uint8_t* data, size_t size, const std::string&
   png_inflate::Rows rows;
   const bool rgb = png_inflate::decode(data, size, png_inflate::Layout::Rgb8, kMaxImagePixels, rows);
   if (rgb || png_inflate::decode(data, size, png_inflate::Layout::Rgba8, kMaxImagePixels, rows)) {
-    ColorImage color(rows.width, rows.height);
+    ColorImage color = ColorImage::forOverwrite(rows.width, rows.height);
     const int step = rgb ? 3 : 4;
     for (int y = 0; y < rows.height; ++y) {
       const uint8_t* in = rows.row(y);

@@ -1,5 +1,6 @@
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "core/error.h"
@@ -19,6 +20,27 @@ struct ImageView {
   VF_HD bool inside(int x, int y) const { return x >= 0 && y >= 0 && x < width && y < height; }
 };
 
+// An allocator whose value-initialisation is default-initialisation: a vector of plain pixels
+// grows without being zeroed first.
+template <class T>
+struct DefaultInitAllocator : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = DefaultInitAllocator<U>;
+  };
+  DefaultInitAllocator() = default;
+  template <class U>
+  DefaultInitAllocator(const DefaultInitAllocator<U>&) noexcept {}
+  template <class U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+
 // Host-owned image.
 template <class T>
 class Image {
@@ -26,10 +48,16 @@ class Image {
   Image() = default;
   Image(int width, int height, T fill = T{}) { resize(width, height, fill); }
   void resize(int width, int height, T fill = T{}) {
-    if (width < 0 || height < 0) throw Error("image size must not be negative");
-    width_ = width;
-    height_ = height;
+    setSize(width, height);
     pixels_.assign(size_t(width) * size_t(height), fill);
+  }
+  // An image whose every pixel the caller writes next (a decoder, a remap): its pixels are not
+  // filled first, which cost a frame's decoding a pass over each image for nothing.
+  static Image forOverwrite(int width, int height) {
+    Image image;
+    image.setSize(width, height);
+    image.pixels_.resize(size_t(width) * size_t(height));
+    return image;
   }
   int width() const { return width_; }
   int height() const { return height_; }
@@ -42,8 +70,13 @@ class Image {
   ImageView<const T> view() const { return {pixels_.data(), width_, height_}; }
 
  private:
+  void setSize(int width, int height) {
+    if (width < 0 || height < 0) throw Error("image size must not be negative");
+    width_ = width;
+    height_ = height;
+  }
   int width_ = 0, height_ = 0;
-  std::vector<T> pixels_;
+  std::vector<T, DefaultInitAllocator<T>> pixels_;
 };
 
 // Work items of an image sampled at every stride-th pixel in x and y, and the pixel of each.
