@@ -5,6 +5,10 @@
 #include <cstring>
 #include <string>
 
+#if defined(__AVX2__)
+#include <immintrin.h>
+#endif
+
 // The remaps below reproduce cv::remap (OpenCV 4, imgwarp.cpp) for float maps bit for bit, so
 // that undistorted frames are the same with and without OpenCV (tests/io/undistort_test.cpp
 // compares them): nearest neighbour rounds the map to the nearest integer (ties to even),
@@ -27,6 +31,8 @@ constexpr int kCoefBits = 15;
 // short and OpenCV's table holds {32767, 0, 0, 1}.
 struct BilinearWeights {
   int w[kInterTab * kInterTab][4];
+  // The same weights as 16-bit pairs: {w0 | w1 << 16, w2 | w3 << 16} (all fit: at most 32767).
+  int32_t packed[kInterTab * kInterTab][2];
   BilinearWeights() {
     for (int fy = 0; fy < kInterTab; ++fy)
       for (int fx = 0; fx < kInterTab; ++fx) {
@@ -38,6 +44,10 @@ struct BilinearWeights {
       }
     int* zero = w[0];
     zero[0] = 32767, zero[1] = 0, zero[2] = 0, zero[3] = 1;
+    for (int i = 0; i < kInterTab * kInterTab; ++i) {
+      packed[i][0] = int32_t(uint32_t(w[i][0]) | uint32_t(w[i][1]) << 16);
+      packed[i][1] = int32_t(uint32_t(w[i][2]) | uint32_t(w[i][3]) << 16);
+    }
   }
 };
 
@@ -100,24 +110,50 @@ inline Rgb8 blendInterior(const Rgb8* p00, int width, const int* w) {
   return {roundedChannel(rg), roundedChannel(rg >> 32), roundedChannel(ba), roundedChannel(ba >> 32)};
 }
 
+#if defined(__AVX2__)
+// Two interior samples at once, the same sums as blendInterior: a sample's left and right taps
+// are adjacent pixels (one 8-byte load per row), and every weight of the table fits a signed
+// 16-bit lane (at most 32767), so one madd weighs a channel of both taps of a row, exact in 32
+// bits. first: each sample's top-left input pixel; packed: its BilinearWeights::packed entry.
+inline void blendInterior2(const Rgb8* src, int width, const int32_t first[2], const int32_t* const packed[2],
+                           Rgb8* dst) {
+  // Left and right taps' bytes interleaved channel by channel: r0 r1 g0 g1 b0 b1 a0 a1.
+  const __m128i pair_channels = _mm_setr_epi8(0, 4, 1, 5, 2, 6, 3, 7, 8, 12, 9, 13, 10, 14, 11, 15);
+  auto row = [&](int offset) {
+    int64_t a, b;
+    std::memcpy(&a, src + first[0] + offset, 8);
+    std::memcpy(&b, src + first[1] + offset, 8);
+    return _mm256_cvtepu8_epi16(_mm_shuffle_epi8(_mm_set_epi64x(b, a), pair_channels));  // sample 0 | sample 1
+  };
+  const __m256i top_weights = _mm256_setr_epi32(packed[0][0], packed[0][0], packed[0][0], packed[0][0], packed[1][0],
+                                                packed[1][0], packed[1][0], packed[1][0]);
+  const __m256i bottom_weights = _mm256_setr_epi32(packed[0][1], packed[0][1], packed[0][1], packed[0][1], packed[1][1],
+                                                   packed[1][1], packed[1][1], packed[1][1]);
+  const __m256i sum = _mm256_add_epi32(_mm256_madd_epi16(row(0), top_weights), _mm256_madd_epi16(row(width), bottom_weights));
+  const __m256i rounded = _mm256_srli_epi32(_mm256_add_epi32(sum, _mm256_set1_epi32(1 << (kCoefBits - 1))), kCoefBits);
+  const __m128i words = _mm_packs_epi32(_mm256_castsi256_si128(rounded), _mm256_extracti128_si256(rounded, 1));
+  _mm_storel_epi64(reinterpret_cast<__m128i*>(dst), _mm_packus_epi16(words, words));
+}
+#endif
+
 }  // namespace
 
 // Bilinear, RGBA 8 bit, constant border `outside` for samples beyond the image.
 void Undistorter::remapBilinearRgba(const Rgb8* src, Rgb8* dst, Rgb8 outside) const {
   const BilinearWeights& table = bilinearWeights();
   auto channels = [](const Rgb8& p, int k) { return k == 0 ? p.r : k == 1 ? p.g : k == 2 ? p.b : p.a; };
-  for (size_t i = 0; i < bilinear_.size(); ++i) {
+  auto sample = [&](size_t i) {
     const BilinearTap tap = bilinear_[i];
     if (tap.inside == 0) {
       dst[i] = outside;
-      continue;
+      return;
     }
     const int* w = table.w[tap.weights];
     // first is -1 or less at the top and left borders: each tap is read only where it is inside.
     const int32_t f = tap.first;
     if (tap.inside == 15) {  // the common case: no tap at the border
       dst[i] = blendInterior(src + f, width_, w);
-      continue;
+      return;
     }
     const Rgb8& p00 = (tap.inside & 1) ? src[f] : outside;
     const Rgb8& p01 = (tap.inside & 2) ? src[f + 1] : outside;
@@ -131,7 +167,23 @@ void Undistorter::remapBilinearRgba(const Rgb8* src, Rgb8* dst, Rgb8 outside) co
       out[k] = uint8_t(v < 0 ? 0 : v > 255 ? 255 : v);
     }
     dst[i] = {out[0], out[1], out[2], out[3]};
+  };
+  size_t i = 0;
+#if defined(__AVX2__)
+  // Interior samples (nearly all of a frame) two at a time in vector lanes.
+  for (; i + 2 <= bilinear_.size(); i += 2) {
+    const BilinearTap t0 = bilinear_[i], t1 = bilinear_[i + 1];
+    if ((t0.inside & t1.inside) == 15) {
+      const int32_t first[2] = {t0.first, t1.first};
+      const int32_t* const packed[2] = {table.packed[t0.weights], table.packed[t1.weights]};
+      blendInterior2(src, width_, first, packed, dst + i);
+    } else {
+      sample(i);
+      sample(i + 1);
+    }
   }
+#endif
+  for (; i < bilinear_.size(); ++i) sample(i);
 }
 
 Undistorter::Undistorter(const Intrinsics& K, const Distortion& d) : width_(K.width), height_(K.height) {
@@ -170,21 +222,21 @@ void Undistorter::checkSize(int width, int height, const char* what) const {
 
 DepthImage Undistorter::undistortDepth(const DepthImage& depth_m) const {
   checkSize(depth_m.width(), depth_m.height(), "depth");
-  DepthImage out(width_, height_);
+  DepthImage out = DepthImage::forOverwrite(width_, height_);  // every pixel remapped
   remapNearest(depth_m.data(), out.data(), nearest_, 0.f);
   return out;
 }
 
 ColorImage Undistorter::undistortColor(const ColorImage& color) const {
   checkSize(color.width(), color.height(), "colour");
-  ColorImage out(width_, height_);
+  ColorImage out = ColorImage::forOverwrite(width_, height_);  // every pixel remapped
   remapBilinearRgba(color.data(), out.data(), Rgb8{0, 0, 0, 255});
   return out;
 }
 
 LabelImage Undistorter::undistortLabels(const LabelImage& labels) const {
   checkSize(labels.width(), labels.height(), "label map");
-  LabelImage out(width_, height_);
+  LabelImage out = LabelImage::forOverwrite(width_, height_);  // every pixel remapped
   remapNearest(labels.data(), out.data(), nearest_clamped_, uint16_t(0));
   return out;
 }
