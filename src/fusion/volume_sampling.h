@@ -22,10 +22,21 @@ VF_HD bool cellCorners(const VolumeView& volume, Vec3f g, float corners[8], Vec3
     c[0] = base[0], c[1] = base[1], c[2] = base[8], c[3] = base[9];
     c[4] = base[64], c[5] = base[65], c[6] = base[72], c[7] = base[73];
   } else {
+    // The cell straddles brick faces (a third of all cells): each brick it reaches is looked up
+    // once, usually two, not once per corner. Brick b of the 2x2x2 the cell can reach has bit
+    // 0, 1, 2 set for the next brick along x, y, z.
+    const int next[3] = {(x & kBrickMask) == kBrickMask, (y & kBrickMask) == kBrickMask, (z & kBrickMask) == kBrickMask};
+    int slots[8];
+    for (int b = 0; b < 8; ++b) {
+      const int dx = b & 1, dy = (b >> 1) & 1, dz = b >> 2;
+      if ((dx > next[0]) || (dy > next[1]) || (dz > next[2])) continue;  // the cell does not reach it
+      slots[b] = volume.hash.slotOf(brickOfVoxel(x + dx, y + dy, z + dz));
+      if (slots[b] < 0) return false;
+    }
     for (int k = 0; k < 8; ++k) {
-      const int64_t index = volume.findVoxel(x + (k & 1), y + ((k >> 1) & 1), z + (k >> 2));
-      if (index < 0) return false;
-      c[k] = volume.tsdf[index];
+      const int dx = k & 1, dy = (k >> 1) & 1, dz = k >> 2;
+      const int b = (dx & next[0]) | (dy & next[1]) << 1 | (dz & next[2]) << 2;
+      c[k] = volume.tsdf[VolumeView::voxelIndex(slots[b], localVoxelIndex(x + dx, y + dy, z + dz))];
     }
   }
   for (int k = 0; k < 8; ++k) {
