@@ -135,8 +135,9 @@ struct DownsampleDepthKernel {
   ImageView<float> coarse;
   float depth_jump_m = 0.09f;
 
-  VF_HD void operator()(int i) const {
-    const int x = i % coarse.width, y = i / coarse.width;
+  VF_HD int rowLength() const { return coarse.width; }
+  VF_HD void operator()(int i) const { at(i % coarse.width, i / coarse.width, i); }
+  VF_HD void at(int x, int y, int i) const {
     float ref = 0.f, sum = 0.f;
     int count = 0;
     for (int k = 0; k < 4; ++k) {
@@ -157,9 +158,10 @@ struct VertexMapKernel {
   ImageView<Vec3f> vertex;
   Intrinsics intrinsics;
 
-  VF_HD void operator()(int i) const {
+  VF_HD int rowLength() const { return depth.width; }
+  VF_HD void operator()(int i) const { at(i % depth.width, i / depth.width, i); }
+  VF_HD void at(int x, int y, int i) const {
     const float d = depth[i];
-    const int x = i % depth.width, y = i / depth.width;
     vertex[i] = d > 0.f ? intrinsics.backProject(float(x), float(y), d) : Vec3f{0.f, 0.f, 0.f};
   }
 };
@@ -177,9 +179,11 @@ struct NormalMapKernel {
 
   VF_HD int itemCount() const { return stridedPixelCount(vertex.width, vertex.height, stride_px); }
 
-  VF_HD void operator()(int item) const {
-    const int i = stridedPixel(item, vertex.width, stride_px);
-    const int x = i % vertex.width, y = i / vertex.width;
+  // Items walk the strided pixels: item = row * rowLength() + column.
+  VF_HD int rowLength() const { return (vertex.width + stride_px - 1) / stride_px; }
+  VF_HD void operator()(int item) const { at(item % rowLength(), item / rowLength(), item); }
+  VF_HD void at(int column, int row, int /*item*/) const {
+    const int x = column * stride_px, y = row * stride_px, i = y * vertex.width + x;
     normal[i] = Vec3f{0.f, 0.f, 0.f};
     if (x < 1 || y < 1 || x >= vertex.width - 1 || y >= vertex.height - 1) return;
     const Vec3f c = vertex[i];

@@ -19,6 +19,16 @@
 
 namespace vf {
 
+// A per-pixel functor may also define `VF_HD int rowLength() const` and `VF_HD void at(int x,
+// int y, int i) const` for element i = y * rowLength() + x, its operator()(i) calling at(i %
+// rowLength(), i / rowLength(), i): the CPU then walks whole rows and spends no integer division
+// per pixel; CUDA threads keep operator().
+template <class F, class = void>
+struct HasRowWalk : std::false_type {};
+template <class F>
+struct HasRowWalk<F, std::void_t<decltype(std::declval<const F&>().rowLength()),
+                                 decltype(std::declval<const F&>().at(0, 0, 0))>> : std::true_type {};
+
 template <class F>
 void parallelFor(Device device, int n, const F& f) {
   if (n <= 0) return;
@@ -29,6 +39,17 @@ void parallelFor(Device device, int n, const F& f) {
 #else
     throw Error("CUDA backend requested but vdbfuse was built without CUDA");
 #endif
+  }
+  if constexpr (HasRowWalk<F>::value) {
+    const int width = f.rowLength();
+    tbb::parallel_for(tbb::blocked_range<int>(0, n, 1024), [&](const tbb::blocked_range<int>& r) {
+      int y = r.begin() / width, x = r.begin() - y * width;
+      for (int i = r.begin(); i < r.end(); x = 0, ++y) {
+        const int row_end = std::min(r.end(), i + (width - x));
+        for (; i < row_end; ++i, ++x) f.at(x, y, i);
+      }
+    });
+    return;
   }
   tbb::parallel_for(tbb::blocked_range<int>(0, n, 1024), [&](const tbb::blocked_range<int>& r) {
     for (int i = r.begin(); i != r.end(); ++i) f(i);

@@ -26,8 +26,9 @@ struct IntensityKernel {
 struct DownsampleIntensityKernel {
   ImageView<const float> fine;
   ImageView<float> coarse;
-  VF_HD void operator()(int i) const {
-    const int x = i % coarse.width, y = i / coarse.width;
+  VF_HD int rowLength() const { return coarse.width; }
+  VF_HD void operator()(int i) const { at(i % coarse.width, i / coarse.width, i); }
+  VF_HD void at(int x, int y, int i) const {
     float sum = 0.f;
     int count = 0;
     for (int k = 0; k < 4; ++k) {
@@ -42,8 +43,9 @@ struct DownsampleIntensityKernel {
 struct DownsampleModelIntensityKernel {
   ImageView<const float> fine;
   ImageView<float> coarse;
-  VF_HD void operator()(int i) const {
-    const int x = i % coarse.width, y = i / coarse.width;
+  VF_HD int rowLength() const { return coarse.width; }
+  VF_HD void operator()(int i) const { at(i % coarse.width, i / coarse.width, i); }
+  VF_HD void at(int x, int y, int i) const {
     coarse[i] = fine(2 * x, 2 * y);
   }
 };
@@ -55,15 +57,19 @@ struct DownsampleModelIntensityKernel {
 struct IntensityGradientKernel {
   ImageView<const float> intensity;
   ImageView<Vec2f> gradient;
-  VF_HD void operator()(int i) const {
-    const int x = i % intensity.width, y = i / intensity.width;
+  VF_HD int rowLength() const { return intensity.width; }
+  VF_HD void operator()(int i) const { at(i % intensity.width, i / intensity.width, i); }
+  // Without branches (border reads clamped to the image, their result replaced by NaN), so that
+  // the CPU compiler can run a row in vector lanes.
+  VF_HD void at(int x, int y, int i) const {
+    const int w = intensity.width, h = intensity.height;
+    const bool inside = (x >= 1) & (y >= 1) & (x + 1 < w) & (y + 1 < h);
+    const int xl = x >= 1 ? x - 1 : x, xr = x + 1 < w ? x + 1 : x;
+    const int yu = y >= 1 ? y - 1 : y, yd = y + 1 < h ? y + 1 : y;
+    const float l = intensity(xl, y), r = intensity(xr, y), u = intensity(x, yu), d = intensity(x, yd);
+    const bool valid = inside & (l >= 0.f) & (r >= 0.f) & (u >= 0.f) & (d >= 0.f);
     const float nan = quietNaN();
-    if (x < 1 || y < 1 || x + 1 >= intensity.width || y + 1 >= intensity.height) {
-      gradient[i] = Vec2f{nan, nan};
-      return;
-    }
-    const float l = intensity(x - 1, y), r = intensity(x + 1, y), u = intensity(x, y - 1), d = intensity(x, y + 1);
-    gradient[i] = l < 0.f || r < 0.f || u < 0.f || d < 0.f ? Vec2f{nan, nan} : Vec2f{0.5f * (r - l), 0.5f * (d - u)};
+    gradient[i] = Vec2f{valid ? 0.5f * (r - l) : nan, valid ? 0.5f * (d - u) : nan};
   }
 };
 

@@ -356,8 +356,9 @@ struct DownsamplePredictionKernel {
   ImageView<const Vec3f> fine_vertex, fine_normal;
   ImageView<Vec3f> coarse_vertex, coarse_normal;
 
-  VF_HD void operator()(int i) const {
-    const int x = i % coarse_vertex.width, y = i / coarse_vertex.width;
+  VF_HD int rowLength() const { return coarse_vertex.width; }
+  VF_HD void operator()(int i) const { at(i % coarse_vertex.width, i / coarse_vertex.width, i); }
+  VF_HD void at(int x, int y, int i) const {
     coarse_vertex[i] = fine_vertex(2 * x, 2 * y);
     coarse_normal[i] = fine_normal(2 * x, 2 * y);
   }
