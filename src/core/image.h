@@ -79,12 +79,14 @@ class Image {
   std::vector<T, DefaultInitAllocator<T>> pixels_;
 };
 
-// Work items of an image sampled at every stride-th pixel in x and y, and the pixel of each.
+// Work items of an image sampled at every stride-th pixel in x and y (item = row * columns +
+// column), and the pixel of each.
+VF_HD int stridedColumns(int width, int stride) { return (width + stride - 1) / stride; }
 VF_HD int stridedPixelCount(int width, int height, int stride) {
-  return ((width + stride - 1) / stride) * ((height + stride - 1) / stride);
+  return stridedColumns(width, stride) * stridedColumns(height, stride);
 }
 VF_HD int stridedPixel(int item, int width, int stride) {
-  const int cols = (width + stride - 1) / stride;
+  const int cols = stridedColumns(width, stride);
   return (item / cols) * stride * width + (item % cols) * stride;
 }
 

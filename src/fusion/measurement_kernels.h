@@ -179,8 +179,8 @@ struct NormalMapKernel {
 
   VF_HD int itemCount() const { return stridedPixelCount(vertex.width, vertex.height, stride_px); }
 
-  // Items walk the strided pixels: item = row * rowLength() + column.
-  VF_HD int rowLength() const { return (vertex.width + stride_px - 1) / stride_px; }
+  // Items walk the strided pixels (core/image.h stridedPixel): row by row, column by column.
+  VF_HD int rowLength() const { return stridedColumns(vertex.width, stride_px); }
   VF_HD void operator()(int item) const { at(item % rowLength(), item / rowLength(), item); }
   VF_HD void at(int column, int row, int /*item*/) const {
     const int x = column * stride_px, y = row * stride_px, i = y * vertex.width + x;
