@@ -5,6 +5,7 @@
 #          zlib linked in; rpath $ORIGIN/../lib)
 #   lib/   the shared libraries they load beyond glibc (TBB, libstdc++, libgcc_s); the CUDA driver
 #          comes from the machine, the CUDA runtime is linked in
+#   glibc/ the builder's glibc, which run.sh uses where the machine's is older than the programs need
 #   data/  compact copies of the shared TUM captures (tests/cuda/bundle_frames.cpp)
 #   run.sh the check itself (scripts/gpu_bundle_run.sh), MANIFEST what was built from what
 #
@@ -67,6 +68,16 @@ done
 TBB_DIR=$(dirname "$(ldd "$BUILD/tests/cuda/fusion_bench" | awk '$1 ~ /^libtbb\.so/ {print $3}')")
 [ -f "$TBB_DIR/libtbbmalloc.so.2" ] && cp -L "$TBB_DIR/libtbbmalloc.so.2" "$STAGE/lib/"
 strip --strip-unneeded "$STAGE"/lib/*.so*
+
+# glibc itself, kept apart in glibc/: run.sh starts the programs through this loader where the
+# machine's glibc is older than the one they were built against (Ubuntu 22.04 has 2.35, Debian 12
+# builds need 2.36). Never in lib/: a libc without its own loader would break every program.
+mkdir -p "$STAGE/glibc"
+for name in ld-linux-x86-64.so.2 libc.so.6 libm.so.6 libpthread.so.0 libdl.so.2 librt.so.1; do
+  path=$(ldconfig -p | awk -v n="$name" '$1 == n && /x86-64/ && !found {print $NF; found = 1}')
+  [ -n "$path" ] || { echo "gpu_bundle: glibc's $name not found" >&2; exit 1; }
+  cp -L "$path" "$STAGE/glibc/$name"
+done
 
 for capture in $CAPTURES; do
   "$BUILD/tests/cuda/bundle_frames" "$DATA/$capture" "$STAGE/data/$capture"

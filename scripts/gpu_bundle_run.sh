@@ -67,12 +67,19 @@ say "vdbfuse GPU check: $(sed -n 2p "$HERE/MANIFEST" 2>/dev/null), $(date -u +%Y
 # ---- 1. GPU, driver, glibc ----------------------------------------------------------------------
 needed=$(awk '$1 == "glibc_needed" {print $2}' "$HERE/MANIFEST" 2>/dev/null)
 have=$(getconf GNU_LIBC_VERSION 2>/dev/null | awk '{print $2}')
+# LAUNCH prefixes every program: empty, or the bundle's own glibc loader where this machine's glibc
+# is older than the programs need (the driver's libcuda, built for old glibcs, loads under it too).
+LAUNCH=()
 if [ -n "$needed" ] && [ -n "$have" ] &&
    [ "$(printf '%s\n%s\n' "$needed" "$have" | sort -t. -k1,1n -k2,2n | head -1)" != "$needed" ]; then
-  say "FAIL glibc $have here, the bundle's programs need $needed: rebuild the bundle on an older system"
-  exit 1
+  if [ ! -x "$HERE/glibc/ld-linux-x86-64.so.2" ]; then
+    say "FAIL glibc $have here, the bundle's programs need $needed and it carries no glibc/: rebuild the bundle"
+    exit 1
+  fi
+  LAUNCH=("$HERE/glibc/ld-linux-x86-64.so.2" --library-path "$HERE/glibc:$HERE/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}")
+  say "glibc $have here, older than the $needed the programs need: they run on the bundle's own glibc"
 fi
-run gpu-info 60 "$BIN/fusion_bench" --gpu-info
+run gpu-info 60 "${LAUNCH[@]}" "$BIN/fusion_bench" --gpu-info
 if [ "$RC" -ne 0 ]; then
   reason=$(head -1 "$LAST")
   # An NVIDIA device the bundle cannot use (driver older than its CUDA runtime, a GPU it has no
@@ -82,7 +89,7 @@ if [ "$RC" -ne 0 ]; then
     exit 1
   fi
   # Still show that the programs load and run here: the no-GPU path of the memory test.
-  run no-gpu-discovery 60 "$BIN/cuda_memory_test" --gtest_filter='CudaDiscovery.*'
+  run no-gpu-discovery 60 "${LAUNCH[@]}" "$BIN/cuda_memory_test" --gtest_filter='CudaDiscovery.*'
   say "no GPU: ${reason#no CUDA GPU: } (the programs load and run: cuda_memory_test discovery $(gtest_result)); nothing else to check here"
   exit 0
 fi
@@ -93,17 +100,17 @@ fi
 say "     glibc ${have:-?} (bundle needs ${needed:-?})"
 
 # ---- 2. memory ----------------------------------------------------------------------------------
-run cuda_memory_test 180 "$BIN/cuda_memory_test"
+run cuda_memory_test 180 "${LAUNCH[@]}" "$BIN/cuda_memory_test"
 if [ "$RC" -eq 0 ]; then say "memory tests: $(gtest_result)"; else fail "memory tests: exit $RC, $(gtest_result) (details.log)"; fi
 # A GPU with 32 MiB free: the start-up check refuses at once, naming what is needed and free.
-run gpu-memory-check 120 "$BIN/fusion_bench" "$TEDDY" --device cuda --leave-gpu-mib 32 --max-frames 1
+run gpu-memory-check 120 "${LAUNCH[@]}" "$BIN/fusion_bench" "$TEDDY" --device cuda --leave-gpu-mib 32 --max-frames 1
 if [ "$RC" -eq 1 ] && grep -q "of GPU memory to start" "$LAST"; then
   say "GPU memory check: refused to start with 32 MiB free: $(grep -o 'needs .* free of [0-9.]* GiB' "$LAST" | head -1)"
 else
   fail "GPU memory check: a start with 32 MiB free was not refused (exit $RC): $(tail -1 "$LAST")"
 fi
 # A GPU with 300 MiB free: the brick pool cannot double past it; the run stops and says so.
-run gpu-volume-full 120 "$BIN/fusion_bench" "$TEDDY" --device cuda --leave-gpu-mib 300 --voxel-size-m 0.002
+run gpu-volume-full 120 "${LAUNCH[@]}" "$BIN/fusion_bench" "$TEDDY" --device cuda --leave-gpu-mib 300 --voxel-size-m 0.002
 if [ "$RC" -eq 0 ] && grep -q "volume full after frame" "$LAST"; then
   say "GPU volume full: $(grep -o 'volume full after frame .*' "$LAST" | head -1)"
 else
@@ -111,7 +118,7 @@ else
 fi
 
 # ---- 3. parity ----------------------------------------------------------------------------------
-run cuda_parity_test 300 "$BIN/cuda_parity_test"
+run cuda_parity_test 300 "${LAUNCH[@]}" "$BIN/cuda_parity_test"
 if [ "$RC" -eq 0 ]; then say "parity tests: $(gtest_result)"; else fail "parity tests: exit $RC, $(gtest_result) (details.log)"; fi
 grep '^\[parity\]' "$LAST" | sed 's/^\[parity\] /     /' | tee -a "$SUMMARY"
 
@@ -119,7 +126,7 @@ grep '^\[parity\]' "$LAST" | sed 's/^\[parity\] /     /' | tee -a "$SUMMARY"
 bench() {  # bench NAME FOLDER DEVICE [extra fusion_bench options]
   local name=$1 folder=$2 device=$3
   shift 3
-  run "bench-$name-$device" 240 "$BIN/fusion_bench" "$folder" --device "$device" "$@"
+  run "bench-$name-$device" 240 "${LAUNCH[@]}" "$BIN/fusion_bench" "$folder" --device "$device" "$@"
   local line
   line=$(grep '^summary:' "$LAST" | sed 's/^summary: //')
   if [ "$RC" -eq 0 ] && [ -n "$line" ]; then
@@ -156,7 +163,7 @@ else
     esac
     # shellcheck disable=SC2086
     run "sanitizer-$tool" 150 "$SANITIZER" --tool "$tool" $options --error-exitcode 99 \
-      "$BIN/fusion_bench" "$FR1" --device cuda --max-frames 5
+      "${LAUNCH[@]}" "$BIN/fusion_bench" "$FR1" --device cuda --max-frames 5
     errors=$(grep -o 'ERROR SUMMARY: [0-9]* error' "$LAST" | grep -o '[0-9]*' | tail -1)
     if [ "$RC" -eq 0 ]; then
       say "compute-sanitizer $tool (5 frames): ${errors:-0} errors"
