@@ -4,9 +4,12 @@
 //
 // The one legitimately different step is the ICP reduction: the CPU sums rows in TBB's
 // (run-dependent) split order, the GPU per thread / block / in double; the sums agree to float
-// rounding only, the poses to far below 0.1 mm, and a last-bit pose difference moves a few
-// voxels' projections across a pixel boundary. Runs with ICP are therefore compared on poses
-// and on the share of agreeing voxels; runs with given poses are compared strictly.
+// rounding only, and over the frames the poses drift apart by far more than a last bit (on an
+// H200, 10 fr1_xyz frames: 0.046 mm and 0.0023 degrees). Fused at poses 0.05 mm apart, the two
+// volumes differ in every voxel by more than the TSDF tolerance, and a pixel at a depth edge
+// may see another surface. Runs with ICP are therefore compared on poses (0.1 mm, 0.01 degrees)
+// and their fusion strictly against a CPU replay of the CUDA run's own poses; runs with given
+// poses are compared strictly as they are.
 #include <gtest/gtest.h>
 
 #include "cuda/require_gpu.h"
@@ -39,6 +42,7 @@ namespace {
 constexpr int kMaxTsdfUnits = 3;          // 1e-4 of the truncation in int16 units of kTsdfScale
 constexpr double kMaxPoseDiffM = 1e-4;    // 0.1 mm
 constexpr double kMaxPoseDiffDeg = 0.01;
+constexpr double kMaxIcpRmseDiffM = kMaxPoseDiffM;  // residuals of poses up to 0.1 mm apart
 constexpr double kRaycastToleranceM = 1e-4;
 constexpr double kMinRaycastAgreement = 0.999;
 
@@ -175,6 +179,18 @@ BothRuns runBoth(const std::vector<RgbdFrame>& frames, const PipelineParams& par
   return runs;
 }
 
+// The CPU fusing the same frames at the poses the CUDA run tracked: what the CUDA run's volume
+// and raycasts must equal voxel for voxel, whatever its ICP rounding did to those poses.
+Run replayOnCpu(std::vector<RgbdFrame> frames, const Run& gpu, const PipelineParams& params, const Intrinsics& k) {
+  Run replay;
+  replay.pipeline = std::make_unique<Pipeline>(params, k, Device::Cpu);
+  for (size_t i = 0; i < frames.size(); ++i) {
+    frames[i].T_world_cam_given = gpu.results[i].T_world_cam;
+    replay.results.push_back(replay.pipeline->processFrame(frames[i], PoseSource::Given));
+  }
+  return replay;
+}
+
 // One "[parity] <test>: ..." line per comparison, so that the GPU bundle's summary
 // (scripts/gpu_bundle.sh) can quote the differences as numbers, not only pass or fail.
 void report(const std::string& what) {
@@ -203,7 +219,7 @@ void expectSamePoses(const BothRuns& runs) {
     EXPECT_LE(translationDiffM(a.T_world_cam, b.T_world_cam), kMaxPoseDiffM) << "frame " << i;
     EXPECT_LE(rotationDiffDeg(a.T_world_cam, b.T_world_cam), kMaxPoseDiffDeg) << "frame " << i;
     EXPECT_NEAR(a.icp_inliers, b.icp_inliers, 1e-3 * std::max(a.icp_inliers, 1)) << "frame " << i;
-    EXPECT_NEAR(a.icp_rmse_m, b.icp_rmse_m, 1e-5) << "frame " << i;
+    EXPECT_NEAR(a.icp_rmse_m, b.icp_rmse_m, kMaxIcpRmseDiffM) << "frame " << i;
   }
 }
 
@@ -224,6 +240,18 @@ void expectSameRaycasts(BothRuns& runs) {
         << d.disagreeing << " of " << d.pixels << " surface pixels differ (max vertex difference "
         << d.max_vertex_diff_m << " m)";
   }
+}
+
+void expectFusionEqualsCpuReplay(const std::vector<RgbdFrame>& frames, BothRuns& runs, const PipelineParams& params,
+                                 const Intrinsics& k) {
+  BothRuns replayed;
+  replayed.cpu = replayOnCpu(frames, runs.gpu, params, k);
+  replayed.gpu = std::move(runs.gpu);
+  const VolumeDiff d = compareVolumes(replayed.cpu.pipeline->hostVolume(), replayed.gpu.pipeline->hostVolume());
+  report("replayed volume: " + d.str());
+  expectIdenticalVolumes(d);
+  expectSameRaycasts(replayed);
+  runs.gpu = std::move(replayed.gpu);
 }
 
 // ---- inputs -----------------------------------------------------------------------------------
@@ -297,13 +325,7 @@ TEST(CudaParity, TumWithIcpTracksTheSamePosesAndFusesTheSameVolume) {
   for (size_t i = 1; i < runs.cpu.results.size(); ++i)
     EXPECT_TRUE(runs.cpu.results[i].tracked) << "frame " << i << ": " << runs.cpu.results[i].lost_reason;
   expectSamePoses(runs);
-  const VolumeDiff d = compareVolumes(runs.cpu.pipeline->hostVolume(), runs.gpu.pipeline->hostVolume());
-  reportVolume(d);
-  EXPECT_GT(d.observed, 10000u);
-  // Poses agree to float rounding; at most 1 voxel in 10^4 may see a neighbouring pixel.
-  EXPECT_LE(double(d.disagreeing), 1e-4 * double(d.observed)) << d.str();
-  EXPECT_EQ(d.brick_mismatch, 0u) << d.str();
-  expectSameRaycasts(runs);
+  expectFusionEqualsCpuReplay(frames, runs, PipelineParams{}, k);
 }
 
 TEST(CudaParity, SyntheticSceneWithRecordedPosesIsIdentical) {
@@ -323,15 +345,14 @@ TEST(CudaParity, SyntheticSceneWithIcpTracksTheSamePosesAsTheCpuAndTheTruth) {
   const std::vector<RgbdFrame> frames = syntheticFrames(10, k, false);
   BothRuns runs = runBoth(frames, syntheticParams(), k, PoseSource::Icp);
   expectSamePoses(runs);
-  // Both track the exact rendering poses (the world frame is the first camera, at identity).
+  // Both follow the rendering poses (the world frame is the first camera, at identity) within a
+  // third of a 7.8 mm voxel: the CPU drifts to 2.10 mm and 0.13 degrees by frame 9, and so did
+  // the GPU on an H200 (2.10 mm).
   for (size_t i = 0; i < frames.size(); ++i) {
-    EXPECT_LE(translationDiffM(runs.gpu.results[i].T_world_cam, *frames[i].T_world_cam_given), 2e-3) << "frame " << i;
+    EXPECT_LE(translationDiffM(runs.gpu.results[i].T_world_cam, *frames[i].T_world_cam_given), 3e-3) << "frame " << i;
     EXPECT_LE(rotationDiffDeg(runs.gpu.results[i].T_world_cam, *frames[i].T_world_cam_given), 0.2) << "frame " << i;
   }
-  const VolumeDiff d = compareVolumes(runs.cpu.pipeline->hostVolume(), runs.gpu.pipeline->hostVolume());
-  reportVolume(d);
-  EXPECT_LE(double(d.disagreeing), 1e-4 * double(d.observed)) << d.str();
-  expectSameRaycasts(runs);
+  expectFusionEqualsCpuReplay(frames, runs, syntheticParams(), k);
 }
 
 // Labels and dynamic classes: the mask kernels, the class vote and the masked depth paths.

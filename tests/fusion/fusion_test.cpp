@@ -279,5 +279,24 @@ TEST(Volume, DepthBeyondTheMaximumRangeIsNeitherMarkedNorFused) {
   EXPECT_GT(far_but_valid, reference);
 }
 
+TEST(Volume, ARunReplayedAtItsOwnTrackedPosesFusesTheSameVoxels) {
+  // tests/cuda compares a CUDA run with ICP against the CPU fusing the same frames at the poses
+  // that run tracked: fusion must depend on the frames and the poses alone, not on how they came.
+  const SyntheticScene scene = roomCorner();
+  const Intrinsics k = testCamera(160, 120);
+  Pipeline tracked(withVoxel(0.01f), k, Device::Cpu);
+  Pipeline replayed(withVoxel(0.01f), k, Device::Cpu);
+  for (int i = 0; i < 6; ++i) {
+    RgbdFrame frame = scene.render(k, poseFrom(0.5 * i, -0.8 * i, 0.3 * i, 0.01 * i, -0.005 * i, 0.006 * i));
+    const FrameResult r = tracked.processFrame(frame, PoseSource::Icp);
+    ASSERT_TRUE(r.tracked) << "frame " << i << ": " << r.lost_reason;
+    frame.T_world_cam_given = r.T_world_cam;
+    replayed.processFrame(frame, PoseSource::Given);
+  }
+  const BrickLookup a(tracked.hostVolume()), b(replayed.hostVolume());
+  EXPECT_GT(a.brickCount(), 500u);
+  expectSameVoxels(a, b);
+}
+
 }  // namespace
 }  // namespace vf
