@@ -195,7 +195,8 @@ void Pipeline::raycast(const Pose& T_world_cam, bool with_color, int level, bool
   range.range_max = b.range_max.data();
   range.tiles_x = tiles_x;
   range.tiles_y = tiles_y;
-  parallelFor(device_, volume_->brickCount(), range);
+  const int bricks = volume_->bricksNearView(range.cull, range.T_cam_world, &range.slots);
+  parallelFor(device_, bricks, range);
 
   // The colour buffer is allocated at full size; a coarser raycast uses its first pixels.
   const ImageView<Rgb8> color{b.model_color.buffer.data(), camera.width, camera.height};

@@ -55,6 +55,7 @@ struct FrustumCull {
 
 struct BrickRangeKernel {
   VolumeView volume;
+  const int* slots = nullptr;  // the bricks to project (SparseVolume::bricksNearView); null: every slot
   Intrinsics intrinsics;
   Rigid3f T_cam_world;
   FrustumCull cull;
@@ -62,8 +63,8 @@ struct BrickRangeKernel {
   float* range_max;
   int tiles_x = 0, tiles_y = 0;
 
-  VF_HD void operator()(int slot) const {
-    const Vec3i origin = volume.brickOrigin(slot);
+  VF_HD void operator()(int i) const {
+    const Vec3i origin = volume.brickOrigin(slots ? slots[i] : i);
     const float edge_m = kBrickSize * volume.voxel_size_m;
     const Vec3f corner0{origin.x * volume.voxel_size_m, origin.y * volume.voxel_size_m, origin.z * volume.voxel_size_m};
     const Vec3f center = T_cam_world * (corner0 + Vec3f{0.5f, 0.5f, 0.5f} * edge_m);

@@ -235,10 +235,22 @@ int SparseVolume::assignSlots() {
               AssignSlotsKernel{view_, frameEntries(), frameSlots(), counters + kSlotCount, pool_capacity_,
                                 counters + kPoolFull});
   if (fresh > 0) {
+    const int before = brick_count_;
     brick_count_ = std::min(readCounter(kSlotCount), pool_capacity_);
     if (readCounter(kPoolFull) != 0) pool_full_ = true;
+    if (device_ == Device::Cpu) chunks_.add(view_.brick_coords + before, before, brick_count_ - before);
   }
   return touched;
+}
+
+int SparseVolume::bricksNearView(const FrustumCull& cull, const Rigid3f& T_cam_world, const int** slots) {
+  if (device_ == Device::Cuda) {
+    *slots = nullptr;
+    return brick_count_;
+  }
+  chunks_.gatherVisible(cull, T_cam_world, kBrickSize * spec_.voxel_size_m, near_view_);
+  *slots = near_view_.data();
+  return int(near_view_.size());
 }
 
 BrickVolumeView SparseVolume::hostView() {
@@ -280,6 +292,8 @@ void SparseVolume::restore(const HostBrickVolume& bricks) {
   if (with_classes_) put(view_.class_vote, bricks.class_vote.data(), voxels * sizeof(uint32_t));
   brick_count_ = n;
   pool_full_ = false;
+  chunks_.clear();
+  if (device_ == Device::Cpu) chunks_.add(view_.brick_coords, 0, n);
   // A fresh table large enough for the load-factor rule, then every brick back in with its slot.
   uint32_t capacity = kInitialHashCapacity;
   while (uint64_t(n) * 5 > uint64_t(capacity) * 2) capacity *= 2;

@@ -11,9 +11,11 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "core/brick_volume.h"
 #include "core/volume_spec.h"
+#include "fusion/brick_chunks.h"
 #include "fusion/buffer.h"
 #include "fusion/device.h"
 #include "fusion/volume.h"
@@ -54,6 +56,12 @@ class SparseVolume {
   int assignSlots();
   bool poolFull() const { return pool_full_; }
 
+  // The bricks a raycast from T_cam_world must project (BrickRangeKernel::slots), returning their
+  // count: on the CPU the bricks of the chunks (fusion/brick_chunks.h) that `cull` does not
+  // exclude, listed in *slots; on CUDA every slot (*slots = null), where one thread per brick
+  // costs less than a host round trip each frame.
+  int bricksNearView(const FrustumCull& cull, const Rigid3f& T_cam_world, const int** slots);
+
   // A host view of every allocated brick. CPU: the live pool; CUDA: a copy refreshed by each call.
   BrickVolumeView hostView();
   // Replaces the content with `bricks` (slots 0..n-1 in their order), as a checkpoint saved it.
@@ -84,6 +92,8 @@ class SparseVolume {
   Buffer<int> counters_;
   VolumeView view_;
   HostBrickVolume host_mirror_;  // CUDA only: what hostView() last downloaded
+  BrickChunks chunks_;           // CPU only: every slot by chunk
+  std::vector<int> near_view_;   // CPU only: the last bricksNearView list
 };
 
 }  // namespace vf

@@ -6,14 +6,17 @@
 #include <array>
 #include <functional>
 #include <limits>
+#include <random>
 #include <vector>
 
 #include "brick_lookup.h"
 #include "icp_rows_fixture.h"
 #include "core/error.h"
+#include "fusion/brick_chunks.h"
 #include "fusion/icp_kernels.h"
 #include "fusion/parallel.h"
 #include "fusion/pipeline.h"
+#include "fusion/raycast_kernels.h"
 #include "synthetic_scene.h"
 #include "test_data.h"
 
@@ -296,6 +299,38 @@ TEST(Volume, ARunReplayedAtItsOwnTrackedPosesFusesTheSameVoxels) {
   const BrickLookup a(tracked.hostVolume()), b(replayed.hostVolume());
   EXPECT_GT(a.brickCount(), 500u);
   expectSameVoxels(a, b);
+}
+
+TEST(Volume, ChunkCullingKeepsEveryBrickTheRaycastWouldProjectAndSkipsTheRest) {
+  // BrickChunks must be exact: every brick whose own sphere BrickRangeKernel keeps is listed,
+  // whatever the pose; bricks far out of view are not, which is what it is for.
+  std::mt19937 random(5);
+  std::uniform_int_distribution<int> coord(-60, 60);
+  std::vector<Vec3i> bricks(20000);
+  for (Vec3i& b : bricks) b = {coord(random), coord(random), coord(random)};
+  BrickChunks chunks;
+  chunks.add(bricks.data(), 0, int(bricks.size()));
+  const Intrinsics k = testCamera(320, 240);
+  const float voxel_m = 0.00586f, edge_m = kBrickSize * voxel_m;
+  const FrustumCull cull = FrustumCull::make(k, 0.2f, 4.f);
+  std::vector<int> listed;
+  size_t kept_total = 0, listed_total = 0;
+  for (int pose = 0; pose < 20; ++pose) {
+    const Rigid3f T_cam_world = toRigid3f(poseFrom(17.0 * pose, 31.0 * pose, 7.0 * pose, 0.1 * pose, -0.05 * pose, 0.02));
+    chunks.gatherVisible(cull, T_cam_world, edge_m, listed);
+    std::vector<char> is_listed(bricks.size(), 0);
+    for (int slot : listed) is_listed[size_t(slot)] = 1;
+    for (size_t slot = 0; slot < bricks.size(); ++slot) {
+      const Vec3i b = bricks[slot];
+      const Vec3f center = T_cam_world * (Vec3f{float(b.x), float(b.y), float(b.z)} * edge_m + Vec3f{0.5f, 0.5f, 0.5f} * edge_m);
+      if (cull.outside(center, 0.8661f * edge_m)) continue;
+      ++kept_total;
+      EXPECT_TRUE(is_listed[slot]) << "pose " << pose << ": brick " << b.x << "," << b.y << "," << b.z << " dropped";
+    }
+    listed_total += listed.size();
+  }
+  EXPECT_GT(kept_total, 1000u);
+  EXPECT_LT(listed_total, 20 * bricks.size() / 2) << "the chunks culled less than half of the bricks";
 }
 
 }  // namespace
