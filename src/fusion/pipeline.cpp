@@ -147,7 +147,7 @@ bool Pipeline::integrate() {
     mark.frame_entries = volume.frameEntries();
     mark.frame_count = volume.frameCount();
     mark.overflow = volume.overflowFlag();
-    mark.tile_px = device_ == Device::Cuda ? 1 : 8;
+    mark.tile_px = device_ == Device::Cuda ? 1 : 16;
     parallelFor(device_, mark.itemCount(), mark);
   } while (volume.growIfOverflowed());
   const int touched = volume.assignSlots();
