@@ -13,7 +13,8 @@
 #   2. cuda_memory_test; fusion_bench refusing to start on a nearly full GPU, and stopping cleanly
 #      when the brick pool cannot grow any more
 #   3. cuda_parity_test: largest TSDF difference and pose difference, CPU against CUDA
-#   4. fusion_bench on both captures, CUDA and CPU: ms per stage (medians) and per frame, ATE
+#   4. fusion_bench on both captures and the synthetic room, CUDA and CPU: ms per stage (medians)
+#      and per frame, ATE; the room's frame rate against teddy's
 #   5. compute-sanitizer memcheck, racecheck and initcheck on 5 frames, where it exists
 # Exit status: 0 when every step passed or there is no NVIDIA device (a "no GPU" line says so),
 # else 1 (a device the bundle cannot use is a failure too).
@@ -123,7 +124,8 @@ if [ "$RC" -eq 0 ]; then say "parity tests: $(gtest_result)"; else fail "parity 
 grep '^\[parity\]' "$LAST" | sed 's/^\[parity\] /     /' | tee -a "$SUMMARY"
 
 # ---- 4. benchmark -------------------------------------------------------------------------------
-bench() {  # bench NAME FOLDER DEVICE [extra fusion_bench options]
+declare -A FPS  # frames/s from the four stages' medians, by "name device"
+bench() {  # bench NAME FOLDER|--synthetic-room DEVICE [extra fusion_bench options]
   local name=$1 folder=$2 device=$3
   shift 3
   run "bench-$name-$device" 240 "${LAUNCH[@]}" "$BIN/fusion_bench" "$folder" --device "$device" "$@"
@@ -131,15 +133,24 @@ bench() {  # bench NAME FOLDER DEVICE [extra fusion_bench options]
   line=$(grep '^summary:' "$LAST" | sed 's/^summary: //')
   if [ "$RC" -eq 0 ] && [ -n "$line" ]; then
     say "bench $name $device: $line"
+    FPS["$name $device"]=$(echo "$line" | sed -n 's/.* fps=\([0-9.]*\).*/\1/p')
   else
     fail "bench $name $device: exit $RC: $(tail -1 "$LAST")"
   fi
 }
-say "bench (ms: medians per stage, frame_ms = their sum; ATE against the ground truth; 512^3 at 5.86 mm):"
+say "bench (ms: medians per stage, frame_ms = their sum; ATE against the ground truth; the default 5.86 mm voxels):"
 bench fr1_xyz "$FR1" cuda --timings "$OUT/fr1_xyz_cuda.csv" --trajectory "$OUT/fr1_xyz_cuda_traj.txt"
 bench teddy "$TEDDY" cuda --timings "$OUT/teddy_cuda.csv" --trajectory "$OUT/teddy_cuda_traj.txt"
 bench fr1_xyz "$FR1" cpu
 bench teddy "$TEDDY" cpu
+# Issue 12's large scene, rendered in memory there: the 8 x 6 m room, 300 frames, a full turn.
+bench room --synthetic-room cuda
+bench room --synthetic-room cpu
+for device in cuda cpu; do
+  room=${FPS["room $device"]:-} teddy=${FPS["teddy $device"]:-}
+  [ -n "$room" ] && [ -n "$teddy" ] &&
+    say "room / teddy frames/s, $device: $(awk -v r="$room" -v t="$teddy" 'BEGIN {printf "%.2f", r / t}') (issue 12 asks >= 0.8)"
+done
 
 # ---- 5. compute-sanitizer -----------------------------------------------------------------------
 SANITIZER=$(command -v compute-sanitizer 2>/dev/null)
