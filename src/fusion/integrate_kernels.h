@@ -115,8 +115,8 @@ struct MarkBricksKernel {
           // Touching a brick twice changes nothing, so forgetting one (a collision) is harmless.
           const Vec3i b{bx, by, bz};
           const uint64_t key = brickKey(b);
-          const int slot = (bx & kRecentMask) | (by & kRecentMask) << kRecentShift | (bz & kRecentMask) << (2 * kRecentShift);
-          uint64_t& remembered = recent[slot];
+          const int way = (bx & kRecentMask) | (by & kRecentMask) << kRecentShift | (bz & kRecentMask) << (2 * kRecentShift);
+          uint64_t& remembered = recent[way];
           if (remembered == key) continue;
           remembered = key;
           touch(b);

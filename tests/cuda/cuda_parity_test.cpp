@@ -225,12 +225,12 @@ void expectSamePoses(const BothRuns& runs) {
 
 // Raycasts from the last pose and from a pose a few centimetres / degrees away (predictFrom
 // must render it and restore the tracking prediction).
-void expectSameRaycasts(BothRuns& runs) {
-  const Pose last = runs.cpu.pipeline->pose();
+void expectSameRaycasts(Pipeline& cpu, Pipeline& gpu) {
+  const Pose last = cpu.pose();
   const Pose novel = test::poseFrom(2.0, -3.0, 1.0, 0.03, -0.02, 0.04) * last;
   for (const Pose& pose : {last, novel}) {
-    const Prediction a = runs.cpu.pipeline->predictFrom(pose, true);
-    const Prediction b = runs.gpu.pipeline->predictFrom(pose, true);
+    const Prediction a = cpu.predictFrom(pose, true);
+    const Prediction b = gpu.predictFrom(pose, true);
     const RaycastDiff d = compareRaycasts(a, b);
     const int total = a.vertex_world.width() * a.vertex_world.height();
     report("raycast: " + std::to_string(d.disagreeing) + " of " + std::to_string(d.pixels) +
@@ -242,16 +242,13 @@ void expectSameRaycasts(BothRuns& runs) {
   }
 }
 
-void expectFusionEqualsCpuReplay(const std::vector<RgbdFrame>& frames, BothRuns& runs, const PipelineParams& params,
+void expectFusionEqualsCpuReplay(const std::vector<RgbdFrame>& frames, const Run& gpu, const PipelineParams& params,
                                  const Intrinsics& k) {
-  BothRuns replayed;
-  replayed.cpu = replayOnCpu(frames, runs.gpu, params, k);
-  replayed.gpu = std::move(runs.gpu);
-  const VolumeDiff d = compareVolumes(replayed.cpu.pipeline->hostVolume(), replayed.gpu.pipeline->hostVolume());
+  const Run replay = replayOnCpu(frames, gpu, params, k);
+  const VolumeDiff d = compareVolumes(replay.pipeline->hostVolume(), gpu.pipeline->hostVolume());
   report("replayed volume: " + d.str());
   expectIdenticalVolumes(d);
-  expectSameRaycasts(replayed);
-  runs.gpu = std::move(replayed.gpu);
+  expectSameRaycasts(*replay.pipeline, *gpu.pipeline);
 }
 
 // ---- inputs -----------------------------------------------------------------------------------
@@ -313,7 +310,7 @@ TEST(CudaParity, TumWithRecordedPosesFusesTheSameVolumeAndRaycast) {
   const VolumeDiff d = compareVolumes(runs.cpu.pipeline->hostVolume(), runs.gpu.pipeline->hostVolume());
   reportVolume(d);
   expectIdenticalVolumes(d);
-  expectSameRaycasts(runs);
+  expectSameRaycasts(*runs.cpu.pipeline, *runs.gpu.pipeline);
 }
 
 TEST(CudaParity, TumWithIcpTracksTheSamePosesAndFusesTheSameVolume) {
@@ -325,7 +322,7 @@ TEST(CudaParity, TumWithIcpTracksTheSamePosesAndFusesTheSameVolume) {
   for (size_t i = 1; i < runs.cpu.results.size(); ++i)
     EXPECT_TRUE(runs.cpu.results[i].tracked) << "frame " << i << ": " << runs.cpu.results[i].lost_reason;
   expectSamePoses(runs);
-  expectFusionEqualsCpuReplay(frames, runs, PipelineParams{}, k);
+  expectFusionEqualsCpuReplay(frames, runs.gpu, PipelineParams{}, k);
 }
 
 TEST(CudaParity, SyntheticSceneWithRecordedPosesIsIdentical) {
@@ -336,7 +333,7 @@ TEST(CudaParity, SyntheticSceneWithRecordedPosesIsIdentical) {
   const VolumeDiff d = compareVolumes(runs.cpu.pipeline->hostVolume(), runs.gpu.pipeline->hostVolume());
   reportVolume(d);
   expectIdenticalVolumes(d);
-  expectSameRaycasts(runs);
+  expectSameRaycasts(*runs.cpu.pipeline, *runs.gpu.pipeline);
 }
 
 TEST(CudaParity, SyntheticSceneWithIcpTracksTheSamePosesAsTheCpuAndTheTruth) {
@@ -352,7 +349,7 @@ TEST(CudaParity, SyntheticSceneWithIcpTracksTheSamePosesAsTheCpuAndTheTruth) {
     EXPECT_LE(translationDiffM(runs.gpu.results[i].T_world_cam, *frames[i].T_world_cam_given), 3e-3) << "frame " << i;
     EXPECT_LE(rotationDiffDeg(runs.gpu.results[i].T_world_cam, *frames[i].T_world_cam_given), 0.2) << "frame " << i;
   }
-  expectFusionEqualsCpuReplay(frames, runs, syntheticParams(), k);
+  expectFusionEqualsCpuReplay(frames, runs.gpu, syntheticParams(), k);
 }
 
 // Labels and dynamic classes: the mask kernels, the class vote and the masked depth paths.
@@ -365,7 +362,7 @@ TEST(CudaParity, SyntheticSceneWithLabelsAndADynamicClassIsIdentical) {
   reportVolume(d);
   expectIdenticalVolumes(d);
   EXPECT_GT(d.voted, 10000u) << "the class vote path was hardly exercised";
-  expectSameRaycasts(runs);
+  expectSameRaycasts(*runs.cpu.pipeline, *runs.gpu.pipeline);
 }
 
 // The probabilistic vote draws from a hash of (seed, voxel, frame): the same draws on both sides.
