@@ -85,7 +85,7 @@ Options parseArguments(int argc, char** argv) {
     else if (o.dataset.empty()) o.dataset = arg;
     else throw UsageError("one TUM folder only, got " + o.dataset + " and " + arg);
   }
-  if (o.dataset.empty() == !o.synthetic_room && !o.gpu_info) throw UsageError("give a TUM folder or --synthetic-room");
+  if (o.dataset.empty() == !o.synthetic_room && !o.gpu_info) throw UsageError("give one of a TUM folder and --synthetic-room");
   if (o.max_frames < 0) throw UsageError("--max-frames must be >= 0");
   return o;
 }
