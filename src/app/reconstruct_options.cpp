@@ -25,6 +25,10 @@ void addReconstructOptions(CLI::App& cmd, ReconstructOptions& o) {
   cmd.add_option("--voxel-size-m", o.voxel_size_m, "Voxel edge in metres")->capture_default_str();
   cmd.add_option("--truncation-m", o.truncation_m, "TSDF truncation in metres (default: 5 voxels)");
   cmd.add_option("--max-depth-m", o.max_depth_m, "Depth readings further away are not fused")->capture_default_str();
+  cmd.add_option("--fuse-depth", o.fuse_depth,
+                 "filtered (the bilateral-filtered depth tracking uses: less noise, fewer bricks) or raw (as "
+                 "KinectFusion: the finest detail, and the sensor's noise)")
+      ->capture_default_str();
   cmd.add_option("--volume-size", o.volume_size)->group("");  // removed: says so
   cmd.add_option("--max-frames", o.max_frames, "Fuse at most this many frames")->check(CLI::PositiveNumber);
   cmd.add_option("--device", o.device, "cpu, cuda or auto (CUDA when a GPU is usable)")->capture_default_str();
@@ -74,6 +78,7 @@ RunSettings runSettings(const ReconstructOptions& o, const FrameSource& source, 
           {"dataset_options", datasetOptionsKey(o.source)},
           {"min_confidence", std::to_string(o.source.min_confidence)},
           {"max_depth_m", std::to_string(o.max_depth_m)},   {"intrinsics", o.intrinsics},
+          {"fuse_depth", o.fuse_depth},
           {"labels", o.labels_dir},                         {"classes", o.classes_file},
           {"dynamic_classes", o.dynamic_classes},
           {"mask_dilation_px", o.mask_dilation_px ? std::to_string(*o.mask_dilation_px) : ""},
@@ -118,6 +123,9 @@ ReconstructionOptions fusionOptions(const ReconstructOptions& o, const LabeledFr
   r.params.volume.voxel_size_m = o.voxel_size_m;
   r.params.volume.truncation_m = o.truncation_m;
   r.params.measurement.max_depth_m = o.max_depth_m;
+  if (o.fuse_depth != "filtered" && o.fuse_depth != "raw")
+    throw Error("--fuse-depth " + o.fuse_depth + ": expected filtered or raw");
+  r.params.integration.integrate_filtered_depth = o.fuse_depth == "filtered";
   if (o.mask_dilation_px) r.params.dynamic_mask_dilation_px = *o.mask_dilation_px;
   if (o.class_vote != "majority" && o.class_vote != "probabilistic")
     throw Error("--class-vote " + o.class_vote + ": expected majority or probabilistic");

@@ -20,6 +20,7 @@ struct ReconstructOptions {
   float voxel_size_m = VolumeSpec{}.voxel_size_m;
   float truncation_m = 0;  // 0 = 5 voxels
   float max_depth_m = MeasurementParams{}.max_depth_m;
+  std::string fuse_depth = "filtered";  // or raw (IntegrationParams::integrate_filtered_depth)
   int max_frames = 0;
   std::string device = "auto", poses = "icp", intrinsics;
   SourceOptions source;

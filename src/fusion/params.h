@@ -61,7 +61,14 @@ enum class ClassVote {
 
 struct IntegrationParams {
   int max_weight = 128;            // running-average cap: the model can still adapt
-  bool integrate_filtered_depth = false;  // KinectFusion fuses the raw depth
+  // Fuse the bilateral-filtered depth that tracking uses (MeasurementParams::bilateral_*), not the
+  // raw depth KinectFusion fuses. Far readings of a Kinect-like sensor scatter by centimetres from
+  // pixel to pixel; fused raw, each frame's band of bricks spreads by that scatter and the surface
+  // keeps a voxel-scale grain. On the synthetic room (300 frames): mesh accuracy mean 2.58 ->
+  // 0.94 mm, ATE 0.169 -> 0.131 cm, bricks -16 %, integrate -18 % and raycast -14 % a frame.
+  // Where depth is clean or near, nothing changes: Replica office0 accuracy 0.167 -> 0.166 cm,
+  // fr1_xyz ATE 0.972 -> 0.975, teddy 0.310 -> 0.310, 7-Scenes kitchen 0.904 -> 0.871 cm.
+  bool integrate_filtered_depth = true;
   ClassVote class_vote = ClassVote::Majority;
   uint32_t class_vote_seed = 0;    // Probabilistic: same seed, same volume (CPU and CUDA)
   void validate() const;

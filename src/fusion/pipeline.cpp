@@ -110,6 +110,11 @@ void Pipeline::measure(const RgbdFrame& frame) {
   bilateral.depth_out = b.depth[0].view();
   bilateral.pixels_per_item = device_ == Device::Cuda ? 1 : BilateralFilterKernel::kLanes;
   parallelFor(device_, bilateral.itemCount(), bilateral);
+  if (has_labels_ && params_.integration.integrate_filtered_depth) {
+    bilateral.depth_in = constView(b.raw_depth);
+    bilateral.depth_out = b.labelled_filtered_depth.view();
+    parallelFor(device_, bilateral.itemCount(), bilateral);
+  }
   for (int l = 1; l < kPyramidLevels; ++l)
     parallelFor(device_, b.depth[l].size(),
                 DownsampleDepthKernel{constView(b.depth[l - 1]), b.depth[l].view(), m.pyramid_depth_jump_m});
@@ -128,16 +133,14 @@ bool Pipeline::integrate() {
   const uint32_t stamp = uint32_t(state_.frames_processed + 1);
   const Rigid3f T_world_cam = toRigid3f(state_.T_world_cam);
   const MeasurementParams& m = params_.measurement;
-  const ImageView<const float> depth =
-      params_.integration.integrate_filtered_depth ? constView(b.depth[0])
-                                                   : (has_labels_ ? constView(b.fuse_depth) : constView(b.raw_depth));
-  // Bricks are allocated from the depth that will be fused, plus, with labels, from the dynamic
-  // pixels too so that their class is still voted.
+  // Bricks are allocated from the depth that will be fused, with labels including the dynamic
+  // pixels, so that their class is still voted.
+  const ImageView<const float> depth = fusedDepth();
   SparseVolume& volume = *volume_;
   volume.beginFrame();
   do {
     MarkBricksKernel mark;
-    mark.depth = has_labels_ ? constView(b.raw_depth) : depth;
+    mark.depth = depth;
     mark.intrinsics = intrinsics_;
     mark.T_world_cam = T_world_cam;
     mark.volume = volume.view();
@@ -156,7 +159,7 @@ bool Pipeline::integrate() {
   kernel.volume = volume.view();
   kernel.slots = volume.frameSlots();
   kernel.slot_count = touched;
-  kernel.depth = has_labels_ ? constView(b.raw_depth) : depth;
+  kernel.depth = depth;
   if (has_color_) {
     kernel.color = color_full_ ? constView(b.color_full) : constView(b.color);
     kernel.color_scale_x = float(kernel.color.width) / float(intrinsics_.width);
@@ -176,6 +179,12 @@ bool Pipeline::integrate() {
   kernel.stamp = stamp;
   parallelFor(device_, touched * IntegrateKernel::kRowsPerBrick, kernel);
   return !volume.poolFull();
+}
+
+ImageView<const float> Pipeline::fusedDepth() const {
+  const Buffers& b = *buffers_;
+  if (!params_.integration.integrate_filtered_depth) return constView(b.raw_depth);
+  return has_labels_ ? constView(b.labelled_filtered_depth) : constView(b.depth[0]);
 }
 
 void Pipeline::raycast(const Pose& T_world_cam, bool with_color, int level, bool window) {

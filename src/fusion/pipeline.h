@@ -112,6 +112,9 @@ class Pipeline {
   IcpSolution solveIcp(const Pose& initial_guess);
   FrameResult judgeTracking(const IcpSolution& solution) const;
   bool integrate();  // false when the pool was full for some of the frame's bricks
+  // The depth integration marks and fuses: filtered or raw (IntegrationParams::
+  // integrate_filtered_depth), with the dynamic pixels of a labelled frame kept for the vote.
+  ImageView<const float> fusedDepth() const;
   // window: look for surfaces only near depth[level] (RaycastKernel::window_depth).
   void raycast(const Pose& T_world_cam, bool with_color, int level, bool window = false);
   // The model prediction tracking uses: a raycast from the current pose, which becomes

@@ -38,6 +38,9 @@ inline void validateCamera(const Intrinsics& k) {
 struct Pipeline::Buffers {
   ImageBuffer<float> raw_depth;   // as read (metres)
   ImageBuffer<float> fuse_depth;  // raw depth with dynamic pixels removed
+  // With labels, the filtered depth with the dynamic pixels kept, for integration to vote their
+  // class (Pipeline::fusedDepth); depth[0] has them removed.
+  ImageBuffer<float> labelled_filtered_depth;
   ImageBuffer<Rgb8> color;       // at the depth size: tracking's intensity, renders
   ImageBuffer<Rgb8> color_full;  // the frame's own colour when larger (iPhone: 720x960 over 192x256), fused as is
   ImageBuffer<uint16_t> labels;
@@ -56,6 +59,7 @@ struct Pipeline::Buffers {
     const int w = camera.width, h = camera.height;
     raw_depth.allocate(d, w, h);
     fuse_depth.allocate(d, w, h);
+    labelled_filtered_depth.allocate(d, w, h);
     color.allocate(d, w, h);
     labels.allocate(d, w, h);
     static_mask.allocate(d, w, h);
