@@ -90,6 +90,53 @@ TEST(Integration, PlaneAtHalfMetreHasItsZeroCrossingThereWithinHalfAVoxel) {
   EXPECT_EQ(pipeline.framesLost(), 0);
 }
 
+// Far readings of a Kinect-like sensor scatter by centimetres from pixel to pixel. Fusing the
+// bilateral-filtered depth (the default) averages that scatter over the filter's window as well
+// as over frames; the raw depth only over frames, so its surface stays grainy and its band of
+// bricks spreads.
+TEST(Integration, FusingTheFilteredDepthSmoothsPixelNoiseThatRawDepthKeeps) {
+  SyntheticScene plane;
+  plane.planes.push_back({Eigen::Vector3d(0, 0, -1), -3.0});  // z = 3 m
+  const Intrinsics k = testCamera();
+  const float voxel = VolumeSpec{}.voxel_size_m;
+  struct Fused {
+    double rms_m;
+    size_t bricks;
+  };
+  const auto fuse = [&](bool filtered) {
+    PipelineParams params = withVoxel(voxel);
+    params.integration.integrate_filtered_depth = filtered;
+    Pipeline pipeline(params, k, Device::Cpu);
+    std::mt19937 rng(7);
+    std::normal_distribution<float> noise(0.f, 0.015f);  // Kinect v1 at 3 m
+    for (int i = 0; i < 10; ++i) {
+      RgbdFrame frame = plane.render(k, Pose::Identity());
+      for (int p = 0; p < k.width * k.height; ++p) frame.depth.data()[p] += noise(rng);
+      frame.T_world_cam_given = Pose::Identity();
+      pipeline.processFrame(frame, PoseSource::Given);
+    }
+    const BrickLookup v(pipeline.hostVolume());
+    double sum_sq = 0;
+    int columns = 0;
+    for (int y = -60; y <= 60; y += 3)
+      for (int x = -60; x <= 60; x += 3) {
+        const double z = zeroCrossingZ(v, x, y, 600);
+        if (!std::isfinite(z)) continue;
+        sum_sq += (z - 3.0) * (z - 3.0);
+        ++columns;
+      }
+    EXPECT_GT(columns, 1600) << (filtered ? "filtered" : "raw");
+    return Fused{std::sqrt(sum_sq / std::max(columns, 1)), v.brickCount()};
+  };
+  const Fused raw = fuse(false), filtered = fuse(true);
+  std::printf("zero crossing rms: raw %.2f mm, filtered %.2f mm; bricks: raw %zu, filtered %zu\n", raw.rms_m * 1e3,
+              filtered.rms_m * 1e3, raw.bricks, filtered.bricks);
+  // Measured: raw 5.3 mm, filtered 1.35 mm; bricks 27.6 k against 20.4 k.
+  EXPECT_LT(filtered.rms_m, 0.4 * raw.rms_m);
+  EXPECT_LT(filtered.rms_m, 0.4 * voxel);
+  EXPECT_LT(filtered.bricks, raw.bricks);
+}
+
 TEST(Raycast, FusedSphereIsFoundAtItsRadiusWithinOneVoxel) {
   SyntheticScene scene;
   const Eigen::Vector3d center(0.05, -0.03, 0.9);

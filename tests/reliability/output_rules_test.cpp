@@ -126,6 +126,7 @@ TEST_F(OutputRulesTest, InvalidValuesAreRefusedNotReplaced) {
       {{"--truncation-m", "-1"}, "--truncation-m"},  {{"--truncation-m", "1e9"}, "--truncation-m"},
       {{"--max-frames", "0"}, "--max-frames"},       {{"--max-frames", "-1"}, "--max-frames"},
       {{"--intrinsics", "525,525,1e9,239"}, "--intrinsics"},
+      {{"--fuse-depth", "smoothed"}, "--fuse-depth smoothed: expected filtered or raw"},
   };
   for (const auto& [extra, option] : cases) {
     std::vector<std::string> args = base;
