@@ -91,8 +91,8 @@ void Pipeline::measure(const RgbdFrame& frame) {
                 DynamicMaskKernel{constView(b.labels), b.is_dynamic.data(),
                                   params_.dynamic_mask_dilation_px, b.static_mask.view()});
     parallelFor(device_, w * h,
-                ApplyMaskKernel{constView(b.raw_depth), constView(b.static_mask), b.fuse_depth.view()});
-    depth_for_geometry = constView(b.fuse_depth);
+                ApplyMaskKernel{constView(b.raw_depth), constView(b.static_mask), b.static_depth.view()});
+    depth_for_geometry = constView(b.static_depth);
   }
   if (has_color_) {
     parallelFor(device_, w * h, IntensityKernel{constView(b.color), b.intensity[0].view()});

@@ -37,7 +37,7 @@ inline void validateCamera(const Intrinsics& k) {
 
 struct Pipeline::Buffers {
   ImageBuffer<float> raw_depth;   // as read (metres)
-  ImageBuffer<float> fuse_depth;  // raw depth with dynamic pixels removed
+  ImageBuffer<float> static_depth;  // raw depth with dynamic pixels removed: what tracking filters
   // With labels, the filtered depth with the dynamic pixels kept, for integration to vote their
   // class (Pipeline::fusedDepth); depth[0] has them removed.
   ImageBuffer<float> labelled_filtered_depth;
@@ -58,7 +58,7 @@ struct Pipeline::Buffers {
   Buffers(Device d, const Intrinsics& camera) {
     const int w = camera.width, h = camera.height;
     raw_depth.allocate(d, w, h);
-    fuse_depth.allocate(d, w, h);
+    static_depth.allocate(d, w, h);
     labelled_filtered_depth.allocate(d, w, h);
     color.allocate(d, w, h);
     labels.allocate(d, w, h);
