@@ -95,13 +95,13 @@ struct MarkBricksKernel {
   VF_HD void markBlock(const Rays& rays, int x0, int y0, uint64_t* recent) const {
     const int x1 = x0 + stride_px < depth.width ? x0 + stride_px : depth.width;
     const int y1 = y0 + stride_px < depth.height ? y0 + stride_px : depth.height;
-    float d_lo = 3.0e38f, d_hi = 0.f;
+    float d_lo = 3.0e38f, d_hi = -3.0e38f;
     for (int y = y0; y < y1; ++y)
       for (int x = x0; x < x1; ++x) {
         const float d = depth(x, y);
         if (validDepth(d)) d_lo = fminf(d_lo, d), d_hi = fmaxf(d_hi, d);
       }
-    if (d_hi == 0.f) return;  // no valid depth in the block
+    if (d_lo > d_hi) return;  // no valid depth in the block
     const float trunc = volume.truncation_m;
     // Bands that overlap are one band; across a depth edge each pixel keeps its own, and the
     // gap between them (free space or unseen) is not listed.
