@@ -11,7 +11,8 @@
 namespace vf {
 
 // All grids share one transform and the tsdf's active topology (class/confidence grids exist
-// only when the scene was fused with labels).
+// only when the scene was fused with labels). The float grids are saved as half floats
+// (writeScene, writeSceneFromBricks): a third of the file, and exact for colours and counts.
 struct SceneGrids {
   openvdb::FloatGrid::Ptr tsdf;              // level set, metres, background +truncation
   openvdb::FloatGrid::Ptr weight;            // observation count, background 0

@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <type_traits>
 #include <unordered_map>
 
 #include "core/atomic_output.h"
@@ -118,6 +119,7 @@ class StreamingSceneWriter : public openvdb::io::Archive {
     auto grid = GridT::create(background);
     grid->setName(name);
     grid->setTransform(xform_);
+    grid->setSaveFloatAsHalf(!std::is_integral<typename GridT::ValueType>::value);
     for (size_t i = 0; i < topology_.bricks.size(); ++i) {
       auto* leaf = new LeafT(openvdb::PartialCreate(), source_.origin(topology_.bricks[i]), background, false);
       leaf->setValueMask(topology_.masks[i]);
@@ -158,7 +160,7 @@ class StreamingSceneWriter : public openvdb::io::Archive {
     grid.writeTransform(os);
     grid.writeTopology(os);  // also points the stream at the background for the leaf encoding
     gd.setBlockPos(os.tellp());
-    writeLeafValues<ValueT>(os, fill);
+    writeLeafValues<ValueT>(os, fill, grid.saveFloatAsHalf());
     gd.setEndPos(os.tellp());
     os.seekp(offset_pos, std::ios_base::beg);
     gd.writeStreamPos(os);
@@ -168,7 +170,7 @@ class StreamingSceneWriter : public openvdb::io::Archive {
   }
 
   template <class ValueT, class Fill>
-  void writeLeafValues(std::ostream& os, const Fill& fill) const {
+  void writeLeafValues(std::ostream& os, const Fill& fill, bool to_half) const {
     namespace io = openvdb::io;
     const size_t leaves = topology_.bricks.size();
     std::vector<std::string> chunks((kLeavesPerBatch + kLeavesPerTask - 1) / kLeavesPerTask);
@@ -187,8 +189,7 @@ class StreamingSceneWriter : public openvdb::io::Archive {
         for (size_t i = begin; i < end; ++i) {
           fill(topology_.bricks[i], values.data());
           topology_.masks[i].save(out);  // as LeafNode::writeBuffers: mask, then the values
-          io::writeCompressedValues(out, values.data(), openvdb::Index(kLeafVoxels), topology_.masks[i], LeafMask(),
-                                    /*toHalf=*/false);
+          io::writeCompressedValues(out, values.data(), openvdb::Index(kLeafVoxels), topology_.masks[i], LeafMask(), to_half);
         }
         chunks[t] = out.str();
       });
