@@ -12,15 +12,16 @@
 namespace vf {
 
 // Allocates (on first touch) and lists every brick that holds a voxel the integration can fuse
-// within the truncation band, and no other. A work item covers a block of stride_px x stride_px
-// pixels: the voxel centres that project into the block (its pixels' cells, [x0 - 0.5, x1 - 0.5)
-// in u) at a camera depth within a band [d - trunc, d + trunc] of one of its pixels fill a
-// frustum segment, which is cut along the depth into pieces of step_vox voxels; each piece's
-// bounding box is exact (the hull of its eight corners), and the bricks holding a voxel centre
-// inside it are touched. Depth outside [min_depth_m, max_depth_m] is neither marked nor fused.
+// within the truncation band. A work item covers a block of stride_px x stride_px pixels: the
+// voxel centres that project into the block (its pixels' cells, [x0 - 0.5, x1 - 0.5) in u) at a
+// camera depth within a band [d - trunc, d + trunc] of one of its pixels fill a frustum segment,
+// which is cut along the depth into pieces of step_vox voxels; the bricks holding a voxel centre
+// inside a piece's bounding box (the hull of its eight corners) are touched. Only the boxes'
+// corners reach beyond the band: on tests/fusion's room corner 83 % of the listed bricks hold a
+// band voxel. Depth outside [min_depth_m, max_depth_m] is neither marked nor fused.
 //
 // Voxels in free space in front of the band are fused too (towards +1) but only inside listed
-// bricks, as before: a brick that reaches no band voxel is neither allocated nor walked. The
+// bricks, as before: a brick that no piece's box reaches is neither allocated nor walked. The
 // earlier marking, a cube of half a step plus 1.5 pixels around each step of the block's first
 // pixel, listed 20 % of its bricks for nothing and allocated 14-19 % of its bricks for voxels
 // that no frame ever fused; and it missed the band of a pixel whose block neighbour lay across
@@ -36,17 +37,19 @@ struct MarkBricksKernel {
   int* frame_count;
   int* overflow;           // set when the hash table is too full for an insert
   int stride_px = 2;
+  // Piece length. Half as long listed 0.8 % fewer bricks on the synthetic room, for a third more
+  // marking time (9.1 against 6.8 % of the run).
   float step_vox = 4.f;
   // Pixel blocks per work item, a square tile_px on a side. Neighbouring blocks reach the same
   // bricks over and over (at 1 m a brick covers ~150 blocks); a tile remembers the bricks it
   // touched last, and only the others go to the hash table. The CPU takes 16 x 16 blocks per
   // item; CUDA, which wants many threads, one.
   int tile_px = 1;
-  // A band is a few voxels deep; the cap only guards against absurd parameters, so that a
-  // step below float precision can never loop for ever.
-  static constexpr int kMaxSteps = 256;
+  // A band is a few pieces deep; the cap only guards against absurd parameters. Past it the
+  // pieces grow longer, so the cover stays whole.
+  static constexpr int kMaxPieces = 256;
   // The remembered bricks, direct-mapped by the low bits of each coordinate, so that bricks
-  // within a block of 8 x 8 x 8 (a CPU tile's reach; CUDA: 2 x 2 x 2, one pixel's band, 64
+  // within a block of 8 x 8 x 8 (a CPU tile's reach; CUDA: 2 x 2 x 2, one block's band, 64
   // bytes a thread) never evict each other. The room scan went from 8 hash touches per
   // brick a frame to 1.9 (a 32-entry table of mixed coordinates before; tiles of 8 x 8).
 #ifdef __CUDA_ARCH__
@@ -137,7 +140,7 @@ struct MarkBricksKernel {
     // Pieces of about step_vox voxels along the block's central ray.
     const Vec3f ray_mid = intrinsics.backProject(0.5f * float(x0 + x1 - 1), 0.5f * float(y0 + y1 - 1), 1.f);
     const float span = (z_end - z_begin) * norm(ray_mid) * inv_voxel / step_vox;
-    const int pieces = span < float(kMaxSteps) ? int(span) + 1 : kMaxSteps;
+    const int pieces = span < float(kMaxPieces) ? int(span) + 1 : kMaxPieces;
     const float dz = (z_end - z_begin) / float(pieces);
     Vec3i last_lo{0, 0, 0}, last_hi{-1, -1, -1};  // the bricks the previous piece touched (none yet)
     // The pieces' brick boxes kStepLanes at a time, in a loop of their own so that the CPU
