@@ -189,7 +189,8 @@ class StreamingSceneWriter : public openvdb::io::Archive {
         for (size_t i = begin; i < end; ++i) {
           fill(topology_.bricks[i], values.data());
           topology_.masks[i].save(out);  // as LeafNode::writeBuffers: mask, then the values
-          io::writeCompressedValues(out, values.data(), openvdb::Index(kLeafVoxels), topology_.masks[i], LeafMask(), to_half);
+          io::writeCompressedValues(out, values.data(), openvdb::Index(kLeafVoxels), topology_.masks[i], LeafMask(),
+                                    to_half);
         }
         chunks[t] = out.str();
       });
