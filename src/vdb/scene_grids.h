@@ -11,8 +11,7 @@
 namespace vf {
 
 // All grids share one transform and the tsdf's active topology (class/confidence grids exist
-// only when the scene was fused with labels). The float grids are saved as half floats
-// (writeScene, writeSceneFromBricks): a third of the file, and exact for colours and counts.
+// only when the scene was fused with labels).
 struct SceneGrids {
   openvdb::FloatGrid::Ptr tsdf;              // level set, metres, background +truncation
   openvdb::FloatGrid::Ptr weight;            // observation count, background 0
@@ -25,6 +24,14 @@ struct SceneGrids {
 // and prunes emptied leaves, so that all grids keep the tsdf's topology. Returns how many tsdf
 // voxels were active before and are not any more.
 size_t removeMaskedVoxels(SceneGrids& grids, const openvdb::MaskGrid& mask);
+
+// How a scene grid is stored in the file, for every scene writer (writeScene,
+// writeSceneFromBricks): float and vector grids as half floats (readers get floats back), a
+// third of the file; the TSDF keeps 2^-11 of its value, colour bytes and counts up to 2048 come
+// back exactly. Integer grids (class ids) as they are.
+inline void setSceneGridStorage(openvdb::GridBase& grid) {
+  grid.setSaveFloatAsHalf(grid.isType<openvdb::FloatGrid>() || grid.isType<openvdb::Vec3SGrid>());
+}
 
 // Writes a .vdb through a temp file beside `path`, renamed into place; on error no file is left
 // and vf::Error says "PATH: cannot write WHAT: why".

@@ -134,7 +134,7 @@ void writeScene(const Scene& scene, const std::string& path) {
        {openvdb::GridBase::Ptr(g.tsdf), openvdb::GridBase::Ptr(g.weight), openvdb::GridBase::Ptr(g.color),
         openvdb::GridBase::Ptr(g.class_id), openvdb::GridBase::Ptr(g.class_confidence)})
     if (grid) grids.push_back(grid);
-  for (openvdb::GridBase::Ptr grid : grids) grid->setSaveFloatAsHalf(grid != openvdb::GridBase::Ptr(g.class_id));
+  for (const openvdb::GridBase::Ptr& grid : grids) setSceneGridStorage(*grid);
   writeVdbFileAtomic(path, grids, sceneFileMetadata(scene.meta), "scene");
 }
 

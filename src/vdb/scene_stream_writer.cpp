@@ -16,7 +16,6 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <type_traits>
 #include <unordered_map>
 
 #include "core/atomic_output.h"
@@ -119,7 +118,7 @@ class StreamingSceneWriter : public openvdb::io::Archive {
     auto grid = GridT::create(background);
     grid->setName(name);
     grid->setTransform(xform_);
-    grid->setSaveFloatAsHalf(!std::is_integral<typename GridT::ValueType>::value);
+    setSceneGridStorage(*grid);
     for (size_t i = 0; i < topology_.bricks.size(); ++i) {
       auto* leaf = new LeafT(openvdb::PartialCreate(), source_.origin(topology_.bricks[i]), background, false);
       leaf->setValueMask(topology_.masks[i]);
