@@ -4,6 +4,7 @@
 // estimate. Each pixel contributes one row of the 6x6 normal equations.
 #include "core/image.h"
 #include "core/intrinsics.h"
+#include "fusion/fast_math.h"
 #include "fusion/normal_equations.h"
 
 namespace vf {
@@ -78,7 +79,7 @@ struct IcpKernel {
                          !(wnx[j] * mnx[j] + wny[j] * mny[j] + wnz[j] * mnz[j] < min_normal_cos);
       r[j] = paired ? mnx[j] * dx + mny[j] * dy + mnz[j] * dz : 0.f;
       const float abs_r = fabsf(r[j]);
-      weight[j] = paired ? (abs_r <= huber_m ? 1.f : huber_m / fmaxf(abs_r, huber_m)) : 0.f;
+      weight[j] = paired ? (abs_r <= huber_m ? 1.f : huber_m / maxFloat(abs_r, huber_m)) : 0.f;
       // d r / d xi for xi = (omega, t) applied on the left: [v x n, n]; zero where unpaired, so
       // that the products stay finite.
       J[0][j] = paired ? wy[j] * mnz[j] - wz[j] * mny[j] : 0.f;

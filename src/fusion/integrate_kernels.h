@@ -102,7 +102,7 @@ struct MarkBricksKernel {
     for (int y = y0; y < y1; ++y)
       for (int x = x0; x < x1; ++x) {
         const float d = depth(x, y);
-        if (validDepth(d)) d_lo = fminf(d_lo, d), d_hi = fmaxf(d_hi, d);
+        if (validDepth(d)) d_lo = minFloat(d_lo, d), d_hi = maxFloat(d_hi, d);
       }
     if (d_lo > d_hi) return;  // no valid depth in the block
     const float trunc = volume.truncation_m;
@@ -125,17 +125,17 @@ struct MarkBricksKernel {
                       uint64_t* recent) const {
     const float inv_voxel = 1.f / volume.voxel_size_m;
     const float slack_z = kSlackDepthVox * volume.voxel_size_m;
-    z_begin = fmaxf(z_begin - slack_z, 0.5f * min_depth_m);  // > 0: the bounds scale by depth
+    z_begin = maxFloat(z_begin - slack_z, 0.5f * min_depth_m);  // > 0: the bounds scale by depth
     z_end += slack_z;
     // The block's rays, in voxels per metre of camera depth, bound per world axis: at depth z
     // every voxel coordinate of the block lies within origin + z * [lo, hi].
     const float u0 = float(x0) - 0.5f - kSlackPx, u1 = float(x1) - 0.5f + kSlackPx;
     const float v0 = float(y0) - 0.5f - kSlackPx, v1 = float(y1) - 0.5f + kSlackPx;
     const Vec3f a = rays.per_u * u0, b = rays.per_u * u1, c = rays.per_v * v0, d = rays.per_v * v1;
-    const Vec3f lo{rays.at.x + fminf(a.x, b.x) + fminf(c.x, d.x), rays.at.y + fminf(a.y, b.y) + fminf(c.y, d.y),
-                   rays.at.z + fminf(a.z, b.z) + fminf(c.z, d.z)};
-    const Vec3f hi{rays.at.x + fmaxf(a.x, b.x) + fmaxf(c.x, d.x), rays.at.y + fmaxf(a.y, b.y) + fmaxf(c.y, d.y),
-                   rays.at.z + fmaxf(a.z, b.z) + fmaxf(c.z, d.z)};
+    const Vec3f lo{rays.at.x + minFloat(a.x, b.x) + minFloat(c.x, d.x), rays.at.y + minFloat(a.y, b.y) + minFloat(c.y, d.y),
+                   rays.at.z + minFloat(a.z, b.z) + minFloat(c.z, d.z)};
+    const Vec3f hi{rays.at.x + maxFloat(a.x, b.x) + maxFloat(c.x, d.x), rays.at.y + maxFloat(a.y, b.y) + maxFloat(c.y, d.y),
+                   rays.at.z + maxFloat(a.z, b.z) + maxFloat(c.z, d.z)};
     const Vec3f origin = volume.toVoxel(T_world_cam.t);
     // Pieces of about step_vox voxels along the block's central ray.
     const Vec3f ray_mid = intrinsics.backProject(0.5f * float(x0 + x1 - 1), 0.5f * float(y0 + y1 - 1), 1.f);

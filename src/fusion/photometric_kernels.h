@@ -169,7 +169,7 @@ struct PhotometricKernel {
       J[2][j] = ok ? a.x * py[j] - a.y * px[j] : 0.f;
       J[3][j] = ok ? -a.x : 0.f, J[4][j] = ok ? -a.y : 0.f, J[5][j] = ok ? -a.z : 0.f;
       const float abs_r = fabsf(r[j]);
-      w[j] = ok ? weight * (abs_r <= huber ? 1.f : huber / fmaxf(abs_r, huber)) : 0.f;
+      w[j] = ok ? weight * (abs_r <= huber ? 1.f : huber / maxFloat(abs_r, huber)) : 0.f;
       row[normal_row::kInliers][j] = 0.f;  // statistics (inliers, measured pixels) stay geometric
       row[normal_row::kMeasured][j] = 0.f;
     }

@@ -6,6 +6,7 @@
 #include "core/image.h"
 #include "core/intrinsics.h"
 #include "fusion/atomics.h"
+#include "fusion/fast_math.h"
 #include "fusion/volume_sampling.h"
 
 namespace vf {
@@ -93,10 +94,10 @@ struct BrickRangeKernel {
       u_hi = v_hi = 1.0e6f;
       z_lo = near_m;
     }
-    const int tx0 = clampInt(int(floorf(fmaxf(u_lo, -8.f) / kRangeTilePx)), 0, tiles_x);
-    const int tx1 = clampInt(int(floorf(fminf(u_hi, 1.0e6f) / kRangeTilePx)), -1, tiles_x - 1);
-    const int ty0 = clampInt(int(floorf(fmaxf(v_lo, -8.f) / kRangeTilePx)), 0, tiles_y);
-    const int ty1 = clampInt(int(floorf(fminf(v_hi, 1.0e6f) / kRangeTilePx)), -1, tiles_y - 1);
+    const int tx0 = clampInt(int(floorf(maxFloat(u_lo, -8.f) / kRangeTilePx)), 0, tiles_x);
+    const int tx1 = clampInt(int(floorf(minFloat(u_hi, 1.0e6f) / kRangeTilePx)), -1, tiles_x - 1);
+    const int ty0 = clampInt(int(floorf(maxFloat(v_lo, -8.f) / kRangeTilePx)), 0, tiles_y);
+    const int ty1 = clampInt(int(floorf(minFloat(v_hi, 1.0e6f) / kRangeTilePx)), -1, tiles_y - 1);
     for (int ty = ty0; ty <= ty1; ++ty)
       for (int tx = tx0; tx <= tx1; ++tx) {
         atomicMinNonNegative(range_min + ty * tiles_x + tx, z_lo);
@@ -189,13 +190,13 @@ struct RaycastKernel {
     if (z_lo > z_hi) return false;  // no allocated brick projects here
     // Depth z along this pixel's ray is t * |ray_cam| with ray_cam = (.., .., 1); one voxel of slack.
     const float z_to_t = norm(intrinsics.backProject(float(x), float(y), 1.f)) * inv_voxel;
-    r.t = fmaxf(r.t, z_lo * z_to_t - 1.f);
-    r.t_end = fminf(r.t_end, z_hi * z_to_t + 1.f);
+    r.t = maxFloat(r.t, z_lo * z_to_t - 1.f);
+    r.t_end = minFloat(r.t_end, z_hi * z_to_t + 1.f);
     if (window_depth.data) {
       float d_lo, d_hi;
       if (!windowDepths(x, y, d_lo, d_hi)) return false;
-      r.t = fmaxf(r.t, (d_lo - window_m) * z_to_t);
-      r.t_end = fminf(r.t_end, (d_hi + window_m) * z_to_t);
+      r.t = maxFloat(r.t, (d_lo - window_m) * z_to_t);
+      r.t_end = minFloat(r.t_end, (d_hi + window_m) * z_to_t);
       if (!(r.t < r.t_end)) return false;
     }
     r.prev_t = r.prev_sdf = 0.f;
@@ -216,7 +217,7 @@ struct RaycastKernel {
     for (int yy = y - r > 0 ? y - r : 0; yy <= y + r && yy < window_depth.height; ++yy)
       for (int xx = x - r > 0 ? x - r : 0; xx <= x + r && xx < window_depth.width; ++xx) {
         const float d = window_depth(xx, yy);
-        if (d > 0.f) d_lo = fminf(d_lo, d), d_hi = fmaxf(d_hi, d);
+        if (d > 0.f) d_lo = minFloat(d_lo, d), d_hi = maxFloat(d_hi, d);
       }
     return d_hi > 0.f;
   }
@@ -246,7 +247,7 @@ struct RaycastKernel {
     if (v.weight == 0) {
       // Unobserved: no surface within half a truncation band can start here unseen, since
       // every fused surface is preceded by a full band of positive voxels.
-      r.t += fmaxf(min_step_vox, 0.5f * trunc_vox);
+      r.t += maxFloat(min_step_vox, 0.5f * trunc_vox);
       r.have_prev = false;
       return true;
     }
