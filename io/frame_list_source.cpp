@@ -12,11 +12,15 @@ namespace vf {
 DepthImage readScaledDepthPng(const std::string& path, float units_per_metre, uint16_t invalid_value) {
   DepthImage depth = readDepthPng(path, units_per_metre);
   if (invalid_value != 0) {
-    // raw = v * units is recovered exactly: the float error of raw * (1 / units) is far below 0.5.
+    // The decoder turns a raw value into float(raw) * (1 / units), one rounding of values that
+    // lie a whole 1 / units apart: the invalid value's depth is one float that no other raw
+    // value gives, so comparing floats finds exactly its pixels (an lround per pixel cost
+    // 0.8 % of a 7-Scenes run).
+    const float invalid_m = float(invalid_value) * (1.f / units_per_metre);
     float* d = depth.data();
     const size_t n = size_t(depth.width()) * size_t(depth.height());
     for (size_t i = 0; i < n; ++i)
-      if (std::lround(double(d[i]) * units_per_metre) == invalid_value) d[i] = 0.f;
+      if (d[i] == invalid_m) d[i] = 0.f;
   }
   return depth;
 }
