@@ -95,7 +95,9 @@ void runReconstruct(const ReconstructOptions& o) {
   StopSignals stop("finishing this frame, then saving the scene and a checkpoint; a second signal waits for the save");
   ProgressBar progress(run.frameCount(), !o.quiet);
   Reconstruction::Callbacks callbacks;
-  callbacks.on_frame = [&](const RgbdFrame& frame, const FrameResult&) {
+  std::vector<int> bricks_per_frame;
+  callbacks.on_frame = [&](const RgbdFrame& frame, const FrameResult& result) {
+    if (result.integrated) bricks_per_frame.push_back(result.bricks_fused);
     renders.add(run.framesDone() - 1, frame, pipeline);
     const size_t lost = run.lostFrames().size();
     progress.update(run.framesDone(), lost == 0 ? "" : std::to_string(lost) + " lost");
@@ -131,7 +133,7 @@ void runReconstruct(const ReconstructOptions& o) {
 
   printTrackingSummary(run.frameCount(), run.lostFrames());
   if (labeled) printLabelSummary(labeled->stats(), labeled->classes(), run.frameCount());
-  printTimingTable(pipeline.timer(), run.frameCount() - first, wall_s);
+  printTimingTable(pipeline.timer(), run.frameCount() - first, wall_s, std::move(bricks_per_frame));
   const auto t0 = std::chrono::steady_clock::now();
   const Written written = writeOutputs(false);
   if (!o.output.empty()) {

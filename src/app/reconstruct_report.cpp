@@ -40,7 +40,7 @@ void printLabelSummary(const LabelStats& stats, const ClassTable& classes, int f
   }
 }
 
-void printTimingTable(const StageTimer& timer, int frames, double wall_s) {
+void printTimingTable(const StageTimer& timer, int frames, double wall_s, std::vector<int> bricks_per_frame) {
   std::printf("\n%-12s %10s %10s %10s\n", "stage", "median ms", "mean ms", "total s");
   double sum_median = 0;
   for (const std::string& stage : timer.stages()) {
@@ -52,6 +52,11 @@ void printTimingTable(const StageTimer& timer, int frames, double wall_s) {
   std::printf("%-12s %10.2f   -> %.1f frames/s from the four stages' medians\n", "fusion", sum_median,
               sum_median > 0 ? 1000.0 / sum_median : 0.0);
   std::printf("%d frames in %.2f s (%.1f frames/s including I/O)\n", frames, wall_s, wall_s > 0 ? frames / wall_s : 0.0);
+  if (bricks_per_frame.empty()) return;
+  // What integrate and raycast cost follows: the surface in view, not the scene's extent.
+  std::sort(bricks_per_frame.begin(), bricks_per_frame.end());
+  std::printf("bricks fused per frame: median %d, largest %d\n", bricks_per_frame[bricks_per_frame.size() / 2],
+              bricks_per_frame.back());
 }
 
 void printMemory(int bricks, size_t volume_bytes) {

@@ -12,8 +12,9 @@ namespace vf::app {
 
 void printTrackingSummary(int frames, const std::vector<std::string>& lost);
 void printLabelSummary(const LabelStats& stats, const ClassTable& classes, int frames);
-// Per-stage medians and the frames/s they allow, then the wall time including decoding.
-void printTimingTable(const StageTimer& timer, int frames, double wall_s);
+// Per-stage medians and the frames/s they allow, then the wall time including decoding, then how
+// many bricks a fused frame reached (median and largest; empty: not printed).
+void printTimingTable(const StageTimer& timer, int frames, double wall_s, std::vector<int> bricks_per_frame);
 // The volume's size and the process's real peak resident memory (getrusage), printed last so that
 // the scene conversion and write are included.
 void printMemory(int bricks, size_t volume_bytes);

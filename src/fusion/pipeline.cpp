@@ -127,7 +127,7 @@ void Pipeline::measure(const RgbdFrame& frame) {
   }
 }
 
-bool Pipeline::integrate() {
+bool Pipeline::integrate(int& bricks_fused) {
   ScopedStage stage(timer_, "integrate");
   Buffers& b = *buffers_;
   const uint32_t stamp = uint32_t(state_.frames_processed + 1);
@@ -154,6 +154,7 @@ bool Pipeline::integrate() {
     parallelFor(device_, mark.itemCount(), mark);
   } while (volume.growIfOverflowed());
   const int touched = volume.assignSlots();
+  bricks_fused = touched;
 
   IntegrateKernel kernel;
   kernel.volume = volume.view();
@@ -279,7 +280,7 @@ FrameResult Pipeline::processFrame(const RgbdFrame& frame, PoseSource pose_sourc
   }
   if (given) s.last_given_pose = given;
   if (result.tracked) {
-    result.volume_full = !integrate();
+    result.volume_full = !integrate(result.bricks_fused);
     result.integrated = true;
   }
   {

@@ -28,6 +28,7 @@ struct FrameResult {
   bool tracked = true;      // false: pose rejected, last good pose kept, frame not integrated
   bool integrated = false;
   bool volume_full = false; // memory ran out: some of this frame's bricks could not be allocated
+  int bricks_fused = 0;     // bricks the frame's depth reached (integrate and raycast cost follows it)
   Pose T_world_cam = Pose::Identity();
   int icp_inliers = 0;
   float icp_inlier_fraction = 0.f;
@@ -111,7 +112,8 @@ class Pipeline {
   FrameResult track(const Pose& initial_guess);
   IcpSolution solveIcp(const Pose& initial_guess);
   FrameResult judgeTracking(const IcpSolution& solution) const;
-  bool integrate();  // false when the pool was full for some of the frame's bricks
+  // False when the pool was full for some of the frame's bricks; bricks_fused: how many it reached.
+  bool integrate(int& bricks_fused);
   // The depth integration marks and fuses: filtered or raw (IntegrationParams::
   // integrate_filtered_depth), with the dynamic pixels of a labelled frame kept for the vote.
   ImageView<const float> fusedDepth() const;
