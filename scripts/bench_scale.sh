@@ -66,13 +66,16 @@ done
 value() { awk -v k="$2" '$1 == k {print $2}' "$OUT/$1.values" | median; }
 
 echo
-printf "%-8s %9s %11s %8s %10s %8s %8s %13s %8s\n" scene "fps(I/O)" "fps(stages)" measure integrate raycast track "fused/frame" bricks
+printf "%-8s %9s %11s %8s %10s %8s %8s %12s %8s %9s\n" scene "fps(I/O)" "fps(stages)" measure integrate raycast track \
+  "fused/frame" bricks "ms/k-fused"
 for name in "${NAMES[@]}"; do
-  printf "%-8s %9s %11s %8s %10s %8s %8s %13s %8s\n" "$name" "$(value "$name" fps_io)" "$(value "$name" fps_stages)" \
-    "$(value "$name" measure)" "$(value "$name" integrate)" "$(value "$name" raycast)" "$(value "$name" track)" \
-    "$(value "$name" fused)" "$(value "$name" bricks)"
+  integrate=$(value "$name" integrate) raycast=$(value "$name" raycast) fused=$(value "$name" fused)
+  printf "%-8s %9s %11s %8s %10s %8s %8s %12s %8s %9s\n" "$name" "$(value "$name" fps_io)" "$(value "$name" fps_stages)" \
+    "$(value "$name" measure)" "$integrate" "$raycast" "$(value "$name" track)" "$fused" "$(value "$name" bricks)" \
+    "$(awk -v i="$integrate" -v r="$raycast" -v f="$fused" 'BEGIN {printf "%.2f", (i + r) / f * 1000}')"
 done
-echo "(medians of $ROUNDS runs; stages in ms a frame; fused/frame: the bricks a frame's depth reaches; bricks: the scene's)"
+echo "(medians of $ROUNDS runs; stages in ms a frame; fused/frame: the bricks a frame's depth reaches; bricks: the"
+echo " scene's; ms/k-fused: integrate + raycast per thousand fused bricks, the cost of the surface in view)"
 echo
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN {printf "%.2f", a / b}'; }
 for pair in "room teddy 12" "kitchen fr1 14"; do
