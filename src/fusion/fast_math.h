@@ -36,7 +36,8 @@ VF_HD float quietNaN() {
 // fminf / fmaxf do). libm's fminf / fmaxf must return the other operand for a NaN on either
 // side, so without -ffinite-math-only GCC calls them instead of emitting one instruction, and a
 // loop around such a call no longer vectorises (the brick marking made 13 such calls per pixel
-// block, the raycast 7 per ray, the ICP's Huber weight one per lane).
+// block, the raycast 7 per ray, the ICP's Huber weight one per lane, the colour downsample 4 per
+// colour pixel).
 VF_HD float minFloat(float a, float b) { return a < b ? a : b; }
 VF_HD float maxFloat(float a, float b) { return a > b ? a : b; }
 

@@ -208,9 +208,9 @@ struct DownsampleColorKernel {
     const float ax = float(x) * sx, bx = ax + sx, ay = float(y) * sy, by = ay + sy;
     float r = 0.f, g = 0.f, b = 0.f;
     for (int yy = int(ay); yy < full.height && float(yy) < by; ++yy) {
-      const float wy = fminf(float(yy + 1), by) - fmaxf(float(yy), ay);
+      const float wy = minFloat(float(yy + 1), by) - maxFloat(float(yy), ay);
       for (int xx = int(ax); xx < full.width && float(xx) < bx; ++xx) {
-        const float w = wy * (fminf(float(xx + 1), bx) - fmaxf(float(xx), ax));
+        const float w = wy * (minFloat(float(xx + 1), bx) - maxFloat(float(xx), ax));
         const Rgb8 c = full(xx, yy);
         r += w * float(c.r);
         g += w * float(c.g);
