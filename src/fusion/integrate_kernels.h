@@ -11,6 +11,12 @@
 
 namespace vf {
 
+// The depth readings that are fused, and so the only ones that mark bricks: within
+// [min_depth_m, max_depth_m] (false for NaN). MarkBricksKernel and IntegrateKernel must agree.
+VF_HD bool fusedDepthReading(float d, float min_depth_m, float max_depth_m) {
+  return d >= min_depth_m && d <= max_depth_m;
+}
+
 // Allocates (on first touch) and lists every brick that holds a voxel the integration can fuse
 // within the truncation band. A work item covers a block of stride_px x stride_px pixels: the
 // voxel centres that project into the block (its pixels' cells, [x0 - 0.5, x1 - 0.5) in u) at a
@@ -93,7 +99,7 @@ struct MarkBricksKernel {
     return {at, per_u, per_v};
   }
 
-  VF_HD bool validDepth(float d) const { return d >= min_depth_m && d <= max_depth_m; }  // false for NaN
+  VF_HD bool validDepth(float d) const { return fusedDepthReading(d, min_depth_m, max_depth_m); }
 
   VF_HD void markBlock(const Rays& rays, int x0, int y0, uint64_t* recent) const {
     const int x1 = x0 + stride_px < depth.width ? x0 + stride_px : depth.width;
@@ -354,6 +360,7 @@ struct IntegrateKernel {
     }
     for (int k = 0; k < kBrickSize; ++k) d[k] = depth[pixel[k]];
     for (int k = 0; k < kBrickSize; ++k) {
+      // fusedDepthReading, with & for the vector lanes.
       const int valid = in_image[k] & (d[k] >= min_depth_m) & (d[k] <= max_depth_m);
       sdf[k] = valid ? d[k] - z[k] : trunc;
       fuse[k] = valid & !(sdf[k] < -trunc);  // behind the surface: unobserved
@@ -416,7 +423,7 @@ struct IntegrateKernel {
     if (!(u >= -0.5f && v >= -0.5f && u < float(depth.width) - 0.5f && v < float(depth.height) - 0.5f)) return;
     const int px = int(floorf(u + 0.5f)), py = int(floorf(v + 0.5f));
     const float d = depth(px, py);
-    if (!(d >= min_depth_m && d <= max_depth_m)) return;
+    if (!fusedDepthReading(d, min_depth_m, max_depth_m)) return;
     const float sdf = d - z;
     const float trunc = volume.truncation_m;
     if (sdf < -trunc) return;  // behind the surface: unobserved
