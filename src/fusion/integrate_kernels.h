@@ -24,7 +24,9 @@ VF_HD bool fusedDepthReading(float d, float min_depth_m, float max_depth_m) {
 // which is cut along the depth into pieces of step_vox voxels; the bricks holding a voxel centre
 // inside a piece's bounding box (the hull of its eight corners) are touched. Only the boxes'
 // corners reach beyond the band: on tests/fusion's room corner 83 % of the listed bricks hold a
-// band voxel. Depth outside [min_depth_m, max_depth_m] is neither marked nor fused.
+// band voxel. Depth outside [min_depth_m, max_depth_m] is neither marked nor fused. Testing each
+// box brick against the piece's six planes as well (2026-12-04) listed only 2-4 % fewer bricks
+// on fr1/xyz, teddy and the kitchen, and the tests cost more marking time than they saved.
 //
 // Voxels in free space in front of the band are fused too (towards +1) but only inside listed
 // bricks, as before: a brick that no piece's box reaches is neither allocated nor walked. The
