@@ -8,6 +8,7 @@
 
 #include "app/output_policy.h"
 #include "app/run_control.h"
+#include "app/usage_errors.h"
 #include "core/error.h"
 #include "core/version.h"
 #include "viewer/display_check.h"
@@ -103,7 +104,7 @@ int main(int argc, char** argv) {
     o.show_trajectory = !no_trajectory;
     return runViewer(o, force);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    return vf::app::reportParseError(app, e, "vdbfuse-view");
   } catch (const Error& e) {
     std::fprintf(stderr, "vdbfuse-view: error: %s\n", e.what());
     return 1;

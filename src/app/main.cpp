@@ -10,6 +10,7 @@
 #include "app/command_registry.h"
 #include "app/field_flags.h"
 #include "app/run_control.h"
+#include "app/usage_errors.h"
 #include "core/error.h"
 #include "core/version.h"
 
@@ -24,7 +25,7 @@ int runCommandLine(CLI::App& app, int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    return vf::app::reportParseError(app, e, "vdbfuse");
   } catch (const vf::app::ExitWithStatus& e) {
     return e.status;  // the command already said why
   } catch (const vf::Error& e) {
