@@ -12,6 +12,7 @@
 #include <system_error>
 
 #include "core/atomic_output.h"
+#include "app/usage_errors.h"
 #include "core/error.h"
 #include "io/mesh_io.h"
 #include "io/trajectory_io.h"
@@ -199,7 +200,11 @@ int main(int argc, char** argv) {
   app.add_option("--spacing-m", o.spacing_m, "spacing of the ground-truth surface samples")
       ->capture_default_str()
       ->check(CLI::Range(0.002f, 0.5f));
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return vf::app::reportParseError(app, e, "vdbfuse-synth-room");
+  }
   try {
     if (!o.evaluate.empty()) {
       evaluate(o);
