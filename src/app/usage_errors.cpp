@@ -83,9 +83,11 @@ std::vector<std::string> unknownWords(const std::vector<std::string>& words, con
   std::vector<std::string> lines;
   bool after_unknown_option = false;
   for (const std::string& word : words) {
+    if (word == "--") continue;  // the end of the options, not a word of its own
     const bool is_option = word.size() > 1 && word[0] == '-';
     if (is_option) {
-      const std::string name = word.substr(0, word.find('='));
+      std::string name = word.substr(0, word.find('='));
+      if (name.find_first_not_of('-') == std::string::npos) name = word;  // "--=x"
       lines.push_back("unknown option " + name + suggestion(likelyNames(name, options)));
     } else if (!after_unknown_option) {
       lines.push_back("unexpected argument '" + word + "'");
@@ -106,7 +108,8 @@ int reportParseError(CLI::App& root, const CLI::ParseError& error, const std::st
     lines = unknownWords(command->remaining(), optionNames(*command));
   } else if (!root.get_subcommands({}).empty()) {
     // No command was recognised: the first plain word is the command the user meant.
-    const std::vector<std::string> words = root.remaining();
+    std::vector<std::string> words = root.remaining();
+    words.erase(std::remove(words.begin(), words.end(), "--"), words.end());
     const auto first_word = std::find_if(words.begin(), words.end(), [](const std::string& w) { return w[0] != '-'; });
     if (first_word != words.end()) {
       const std::vector<std::string> names = commandNames(root);
