@@ -4,6 +4,8 @@
 #include <assimp/scene.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -86,13 +88,63 @@ void writeMesh(const TriangleMesh& mesh, const std::string& path, const MeshWrit
   if (mesh.triangles.empty() && format != MeshFormat::kPly)
     throw Error(path + ": a point cloud can only be written as .ply");
   switch (format) {
-    case MeshFormat::kPly: return writePly(mesh, path, options.with_class_property);
+    case MeshFormat::kPly: return writePly(mesh, path, options.with_class_property, options.frame);
     case MeshFormat::kObj: return writeObj(mesh, path, options);
     case MeshFormat::kGlb: return writeGlb(mesh, path, options);
   }
 }
 
-void writePly(const TriangleMesh& mesh, const std::string& path, bool with_class_property) {
+namespace {
+
+constexpr const char* kFrameComment = "vdbfuse frame";
+
+// "comment vdbfuse frame z-up file_from_scene R00 R01 .. R22 TX TY TZ": full float precision, so
+// that reading it back undoes the rotation exactly.
+std::string frameComment(const MeshFrame& frame) {
+  std::string line = std::string("comment ") + kFrameComment + " " + frame.axes + " file_from_scene";
+  char number[32];
+  const Rigid3f& T = frame.file_from_scene;
+  for (float v : {T.r[0], T.r[1], T.r[2], T.r[3], T.r[4], T.r[5], T.r[6], T.r[7], T.r[8], T.t.x, T.t.y, T.t.z}) {
+    std::snprintf(number, sizeof number, " %.9g", double(v));
+    line += number;
+  }
+  return line + "\n";
+}
+
+// The rest of a "comment vdbfuse frame" line (after that prefix).
+MeshFrame parseFrameComment(std::istringstream& in, const std::string& path) {
+  MeshFrame frame;
+  std::string key;
+  float v[12];
+  in >> frame.axes >> key;
+  for (float& x : v) in >> x;
+  bool finite = true;
+  for (float x : v) finite = finite && std::isfinite(x);
+  if (in.fail() || key != "file_from_scene" || !finite || (frame.axes != "camera" && frame.axes != "z-up" && frame.axes != "y-up"))
+    throw Error(path + ": malformed '" + kFrameComment + "' header comment (expected axes camera, z-up or y-up, "
+                "then file_from_scene and 12 numbers)");
+  for (int i = 0; i < 9; ++i) frame.file_from_scene.r[i] = v[i];
+  frame.file_from_scene.t = {v[9], v[10], v[11]};
+  // Undoing it transposes the rotation: anything but a rotation would be undone wrongly.
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      const float dot = v[3 * i] * v[3 * j] + v[3 * i + 1] * v[3 * j + 1] + v[3 * i + 2] * v[3 * j + 2];
+      if (std::fabs(dot - (i == j ? 1.f : 0.f)) > 1e-4f)
+        throw Error(path + ": the '" + kFrameComment + "' header comment holds no rotation (rows not orthonormal)");
+    }
+  return frame;
+}
+
+}  // namespace
+
+void toSceneFrame(TriangleMesh& mesh, const MeshFrame& frame) {
+  const Rigid3f T = frame.file_from_scene.inverse();
+  for (Vec3f& p : mesh.positions) p = T * p;
+  for (Vec3f& n : mesh.normals) n = T.rotate(n);
+}
+
+void writePly(const TriangleMesh& mesh, const std::string& path, bool with_class_property,
+              const std::optional<MeshFrame>& frame) {
   checkMesh(mesh, path);
   if (with_class_property && !mesh.hasClasses())
     throw Error(path + ": --with-class-property needs a scene with classes");
@@ -102,6 +154,7 @@ void writePly(const TriangleMesh& mesh, const std::string& path, bool with_class
     std::ofstream out(tmp, std::ios::binary);
     if (!out) throw Error(path + ": cannot create " + tmp.string());
     out << "ply\nformat binary_little_endian 1.0\ncomment written by vdbfuse\n";
+    if (frame) out << frameComment(*frame);
     out << "element vertex " << mesh.positions.size() << "\n";
     out << "property float x\nproperty float y\nproperty float z\n";
     if (mesh.hasNormals()) out << "property float nx\nproperty float ny\nproperty float nz\n";
@@ -305,7 +358,8 @@ double plyRead(const char* p, const std::string& t) {
 
 }  // namespace
 
-TriangleMesh readPly(const std::string& path) {
+TriangleMesh readPly(const std::string& path, std::optional<MeshFrame>* frame) {
+  if (frame) frame->reset();
   requireRegularFile(path, "PLY file");  // a FIFO would block, a device never end
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(path + ": cannot open PLY file");
@@ -318,8 +372,12 @@ TriangleMesh readPly(const std::string& path) {
     std::istringstream ls(line);
     std::string word;
     ls >> word;
-    if (word == "format") ls >> format;
-    else if (word == "element") {
+    if (word == "format") {
+      ls >> format;
+    } else if (frame && line.rfind(std::string("comment ") + kFrameComment + " ", 0) == 0) {
+      ls.seekg(std::streamoff(std::strlen("comment ") + std::strlen(kFrameComment)));
+      *frame = parseFrameComment(ls, path);
+    } else if (word == "element") {
       elements.emplace_back();
       ls >> elements.back().name >> elements.back().count;
     } else if (word == "property") {

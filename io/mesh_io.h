@@ -6,6 +6,7 @@
 // importers expect); glTF's COLOR_0 and every material colour (GLB base colour, OBJ Kd) are
 // linear. Positions are written as given: the caller rotates into the file's frame
 // (vdb/scene_frame.h).
+#include <optional>
 #include <string>
 
 #include "core/class_table.h"
@@ -14,6 +15,15 @@
 namespace vf {
 
 enum class MeshFormat { kPly, kObj, kGlb };
+
+// The frame a file's positions are in, against the scene's (the frame of the trajectory it was
+// fused with). A PLY records it in a header comment, so that what compares the file with that
+// trajectory or with ground truth (vdbfuse evaluate --mesh, vdbfuse-synth-room --evaluate) can
+// bring a z-up or y-up export back rather than score it misplaced.
+struct MeshFrame {
+  std::string axes;  // "camera" (the scene's own), "z-up" or "y-up"
+  Rigid3f file_from_scene = Rigid3f::identity();
+};
 
 // From the extension (.ply / .obj / .glb, any case); throws vf::Error naming the path otherwise.
 MeshFormat meshFormatFromPath(const std::string& path);
@@ -26,17 +36,23 @@ struct MeshWriteOptions {
   // material carries no class colour: GLB white, OBJ the group's mean colour (Kd is all that
   // Blender's OBJ importer wires into the material).
   bool class_colors = false;
+  std::optional<MeshFrame> frame;  // PLY: recorded in the header
 };
 
 // Writes by extension. A mesh without triangles is written as a point cloud (PLY only).
 void writeMesh(const TriangleMesh& mesh, const std::string& path, const MeshWriteOptions& options = {});
 
-void writePly(const TriangleMesh& mesh, const std::string& path, bool with_class_property);
+void writePly(const TriangleMesh& mesh, const std::string& path, bool with_class_property,
+              const std::optional<MeshFrame>& frame = std::nullopt);
 void writeObj(const TriangleMesh& mesh, const std::string& path, const MeshWriteOptions& options = {});
 void writeGlb(const TriangleMesh& mesh, const std::string& path, const MeshWriteOptions& options = {});
 
 // Reads a PLY (binary little endian or ASCII) with x y z and optional nx ny nz, red green blue,
-// class; polygon faces are fanned into triangles. Throws vf::Error naming the file.
-TriangleMesh readPly(const std::string& path);
+// class; polygon faces are fanned into triangles. Throws vf::Error naming the file. `frame`,
+// when given, receives the frame the header records (nullopt: none, as in other tools' files).
+TriangleMesh readPly(const std::string& path, std::optional<MeshFrame>* frame = nullptr);
+
+// Positions and normals moved from `frame` back into the scene's frame.
+void toSceneFrame(TriangleMesh& mesh, const MeshFrame& frame);
 
 }  // namespace vf

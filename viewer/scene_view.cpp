@@ -452,7 +452,8 @@ void SceneView::Impl::exportVisible() {
   }
   TriangleMesh merged = mergeMeshes(meshes);
   // Z-up like every PLY vdbfuse writes (vdb/scene_frame.h), so it stands upright in Blender too.
-  transformMesh(merged, exportRotation(content.scene.meta, SceneAxes::kZUp));
+  const Rigid3f to_file = exportRotation(content.scene.meta, SceneAxes::kZUp);
+  transformMesh(merged, to_file);
   if (merged.triangles.empty()) {
     say("export: nothing visible to export");
     return;
@@ -462,6 +463,7 @@ void SceneView::Impl::exportVisible() {
     MeshWriteOptions write;
     write.with_class_property = merged.hasClasses();
     write.classes = &content.scene.meta.classes;
+    write.frame = MeshFrame{sceneAxesName(SceneAxes::kZUp), to_file};
     writeMesh(merged, path, write);
     say("exported " + withThousands(merged.triangleCount()) + " triangles to " + path + " (Z-up)");
   } catch (const Error& e) {

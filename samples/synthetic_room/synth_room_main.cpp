@@ -135,7 +135,13 @@ void evaluate(const Options& o) {
   const Trajectory path = cameraPath(o.frames);
   const std::vector<uint8_t> seen = markSeen(room, samples, path, kinectIntrinsics(width, height));
 
-  TriangleMesh mesh = readPly(o.evaluate);
+  std::optional<MeshFrame> frame;
+  TriangleMesh mesh = readPly(o.evaluate, &frame);
+  std::string frame_note = "as written";
+  if (frame && frame->axes != "camera") {  // scored as written, a z-up export would lie metres off
+    toSceneFrame(mesh, *frame);
+    frame_note = "written --axes " + frame->axes + ", brought back into the scene's frame";
+  }
   Pose T = Pose::Identity();
   if (!o.trajectory.empty()) {
     T = alignTo(readTumTrajectory(o.trajectory), path, parseAlignment(o.align));
@@ -143,8 +149,8 @@ void evaluate(const Options& o) {
   }
   const SurfaceScores s = scoreReconstruction(room, samples, seen, mesh, o.threshold_m);
   const double cell_area = double(o.spacing_m) * double(o.spacing_m);
-  std::printf("reconstruction  %s (%zu vertices, %zu triangles)\n", o.evaluate.c_str(), mesh.vertexCount(),
-              mesh.triangleCount());
+  std::printf("reconstruction  %s (%zu vertices, %zu triangles; %s)\n", o.evaluate.c_str(), mesh.vertexCount(),
+              mesh.triangleCount(), frame_note.c_str());
   if (o.trajectory.empty()) {
     std::printf("alignment       none (the mesh is taken to be in the room's frame; give --trajectory to align)\n");
   } else {

@@ -72,7 +72,7 @@ void exportBlender(Scene& scene, const ExportOptions& o) {
   for (const auto& [id, part] : parts) {
     const std::string stem = scene.hasClasses() ? stems.at(id) : "surface";
     const std::string file = stem + ".ply";
-    writePly(part, folder.file(file), false);
+    writePly(part, folder.file(file), false, MeshFrame{sceneAxesName(axes), to_file});
     const ClassInfo* info = scene.meta.classes.findId(id);
     const Rgb8 c = classColorOf(scene.meta.classes, id);
     manifest += std::string(first ? "" : ",\n") + "    {\"file\": \"" + jsonEscape(file) + "\", \"class_id\": " +
@@ -137,8 +137,10 @@ void runExport(const ExportOptions& o) {
   options.min_weight = o.min_weight;
   options.color = o.color == "class" ? MeshColorMode::kClass : MeshColorMode::kRgb;
   TriangleMesh cloud = scenePointCloud(scene, options);
-  transformMesh(cloud, exportRotationFor(scene, o.scene, axesFor(o.axes, MeshFormat::kPly)));
-  writePly(cloud, o.output, cloud.hasClasses());
+  const SceneAxes axes = axesFor(o.axes, MeshFormat::kPly);
+  const Rigid3f to_file = exportRotationFor(scene, o.scene, axes);
+  transformMesh(cloud, to_file);
+  writePly(cloud, o.output, cloud.hasClasses(), MeshFrame{sceneAxesName(axes), to_file});
   std::printf("wrote %s: %zu points\n", o.output.c_str(), cloud.vertexCount());
 }
 

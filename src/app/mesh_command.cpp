@@ -81,13 +81,15 @@ void runMesh(const MeshCommandOptions& o) {
                 before.pieces, min_component);
   }
   if (mesh.triangles.empty()) throw Error(o.output + ": nothing left to write (empty mesh)");
-  transformMesh(mesh, exportRotationFor(scene, o.scene, axes));
+  const Rigid3f to_file = exportRotationFor(scene, o.scene, axes);
+  transformMesh(mesh, to_file);
   std::printf("axes %s (up from %s)\n", sceneAxesName(axes),
               axes == SceneAxes::kCamera ? "-" : scene.meta.up_source.c_str());
   MeshWriteOptions write;
   write.classes = &scene.meta.classes;
   write.with_class_property = o.with_class_property;
   write.class_colors = options.color == MeshColorMode::kClass;
+  write.frame = MeshFrame{sceneAxesName(axes), to_file};
   if (!o.per_class) {
     writeMesh(mesh, o.output, write);
     std::printf("wrote %s: %zu triangles (%.2f s)\n", o.output.c_str(), mesh.triangleCount(), secondsSince(t0));

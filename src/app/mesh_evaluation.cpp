@@ -76,7 +76,15 @@ Trajectory loadGroundTruth(const std::string& path, const SourceOptions& source)
 void runMeshEvaluation(const MeshEvaluationOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   const TriangleMesh reference = readPly(o.reference);
-  TriangleMesh reconstruction = readPly(o.mesh);
+  std::optional<MeshFrame> frame;
+  TriangleMesh reconstruction = readPly(o.mesh, &frame);
+  // A z-up or y-up export (vdbfuse's default for PLY) is compared in the scene's frame, the
+  // trajectory's: scored as written, it would lie metres off and score near zero.
+  std::string frame_note = "as written";
+  if (frame && frame->axes != "camera") {
+    toSceneFrame(reconstruction, *frame);
+    frame_note = "written --axes " + frame->axes + ", brought back into the scene's frame";
+  }
 
   Trajectory estimate;
   TrajectoryAlignment alignment;
@@ -112,8 +120,8 @@ void runMeshEvaluation(const MeshEvaluationOptions& o) {
       surfaceMetrics(ref_surface.distances(rec_points), rec_surface.distances(ref_points), o.threshold_m);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-  std::printf("reconstruction  %s (%zu triangles, %zu points sampled)\n", o.mesh.c_str(),
-              reconstruction.triangleCount(), rec_points.size());
+  std::printf("reconstruction  %s (%zu triangles, %zu points sampled; %s)\n", o.mesh.c_str(),
+              reconstruction.triangleCount(), rec_points.size(), frame_note.c_str());
   std::printf("reference       %s (%zu triangles; completion over %s)\n", o.reference.c_str(),
               reference.triangleCount(), seen_note.c_str());
   std::printf("alignment       %s\n\n", alignment.description.c_str());

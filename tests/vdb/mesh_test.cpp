@@ -212,6 +212,70 @@ TEST(MeshFiles, PlyObjGlbReimportWithSameCountsAndColors) {
   EXPECT_THROW(writeMesh(mesh, dir + "/m.stl"), Error);
 }
 
+// A PLY records the frame it was written in, exactly enough to undo; other tools' files and
+// vdbfuse's older ones record none, and a damaged record is refused by name.
+TEST(MeshFiles, PlyRecordsItsFrameAndReadingItBackUndoesTheRotation) {
+  const std::string dir = test::tempDir("ply_frame");
+  TriangleMesh mesh;
+  mesh.positions = {{0.1f, -0.7f, 2.3f}, {1.4f, 0.2f, 1.9f}, {-0.6f, 0.5f, 3.1f}};
+  mesh.normals = {{0, 0, -1}, {0, 0, -1}, {0, 0, -1}};
+  mesh.triangles = {{0, 1, 2}};
+  const float c = std::cos(0.7f), s = std::sin(0.7f);
+  MeshFrame z_up{"z-up", Rigid3f{{1, 0, 0, 0, c, -s, 0, s, c}, {0.5f, 0, -1}}};
+  TriangleMesh in_file = mesh;
+  for (Vec3f& p : in_file.positions) p = z_up.file_from_scene * p;
+  for (Vec3f& n : in_file.normals) n = z_up.file_from_scene.rotate(n);
+  MeshWriteOptions write;
+  write.frame = z_up;
+  writeMesh(in_file, dir + "/z.ply", write);
+  writePly(mesh, dir + "/plain.ply", false);
+
+  std::optional<MeshFrame> frame;
+  TriangleMesh back = readPly(dir + "/z.ply", &frame);
+  ASSERT_TRUE(frame.has_value());
+  EXPECT_EQ(frame->axes, "z-up");
+  EXPECT_NE(back.positions[0].y, mesh.positions[0].y);  // as written: rotated
+  toSceneFrame(back, *frame);
+  for (size_t v = 0; v < mesh.positions.size(); ++v) {
+    EXPECT_NEAR(back.positions[v].x, mesh.positions[v].x, 1e-6f);
+    EXPECT_NEAR(back.positions[v].y, mesh.positions[v].y, 1e-6f);
+    EXPECT_NEAR(back.positions[v].z, mesh.positions[v].z, 1e-6f);
+    EXPECT_NEAR(back.normals[v].z, -1.f, 1e-6f);
+  }
+  readPly(dir + "/plain.ply", &frame);
+  EXPECT_FALSE(frame.has_value());
+
+  // The record with a number missing: an error naming the file, not a silently wrong frame.
+  std::ifstream in(dir + "/z.ply", std::ios::binary);
+  const std::string written((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string bytes = written;
+  const size_t at = bytes.find(" -1\nelement vertex");
+  ASSERT_NE(at, std::string::npos) << "the record ends with t.z = -1";
+  bytes.erase(at, 3);
+  std::ofstream(dir + "/bad.ply", std::ios::binary) << bytes;
+  try {
+    readPly(dir + "/bad.ply", &frame);
+    ADD_FAILURE() << "a damaged frame record was read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.ply: malformed 'vdbfuse frame'"), std::string::npos) << e.what();
+  }
+  // Twelve numbers, but a scale, not a rotation.
+  bytes = written;
+  const std::string record = "file_from_scene 1 0 0 ";
+  const size_t r = bytes.find(record);
+  ASSERT_NE(r, std::string::npos);
+  bytes.replace(r, record.size(), "file_from_scene 2 0 0 ");
+  std::ofstream(dir + "/scaled.ply", std::ios::binary) << bytes;
+  try {
+    readPly(dir + "/scaled.ply", &frame);
+    ADD_FAILURE() << "a scale was taken for a rotation";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("scaled.ply: the 'vdbfuse frame' header comment holds no rotation"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 // The JSON chunk of a .glb (header 12 bytes, then chunk length, type "JSON", text).
 nlohmann::json glbJson(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
