@@ -1,9 +1,11 @@
 // Reading and writing the scene document (.vdb). Metadata keys are prefixed "vdbfuse_" so that
 // other tools (Blender, Houdini) show them without clashing with their own.
 #include <openvdb/io/File.h>
+#include <tbb/parallel_for.h>
 
 #include <cmath>
 #include <filesystem>
+#include <stdexcept>
 #include <nlohmann/json.hpp>
 
 #include "core/atomic_output.h"
@@ -183,19 +185,39 @@ Scene readScene(const std::string& path) {
                                           kClassConfidenceGridName};
   // libopenvdb allocates whatever sizes a file states; the check bounds them by the file's size.
   checkVdbFileStructure(path, names);
-  openvdb::GridPtrVec grids;
+  std::vector<std::string> present;
   openvdb::MetaMap::Ptr meta;
+  const auto unreadable = [&path](const std::exception& e) {
+    return Error(path + ": not a readable OpenVDB file (truncated or foreign?): " + e.what());
+  };
   try {
     openvdb::io::File file(path);
     file.open(/*delayLoad=*/false);
     // Only the grids checked above: anything else a tool added to the file stays unread.
     for (const std::string& name : names)
-      if (file.hasGrid(name)) grids.push_back(file.readGrid(name));
+      if (file.hasGrid(name)) present.push_back(name);
     meta = file.getMetadata();
     file.close();
   } catch (const std::exception& e) {
-    throw Error(path + ": not a readable OpenVDB file (truncated or foreign?): " + e.what());
+    throw unreadable(e);
   }
+  // The grids side by side, each through a file of its own (a File's stream is not shared
+  // between threads). Most of the time goes to decompressing and allocating leaves, which
+  // libopenvdb does one grid at a time: `info` on a 40 M voxel room took 6.3 s read in turn.
+  openvdb::GridPtrVec grids(present.size());
+  std::vector<std::string> errors(present.size());
+  tbb::parallel_for(size_t(0), present.size(), [&](size_t i) {
+    try {
+      openvdb::io::File file(path);
+      file.open(/*delayLoad=*/false);
+      grids[i] = file.readGrid(present[i]);
+      file.close();
+    } catch (const std::exception& e) {
+      errors[i] = e.what();
+    }
+  });
+  for (const std::string& what : errors)
+    if (!what.empty()) throw unreadable(std::runtime_error(what));
   Scene scene;
   SceneGrids& g = scene.grids();
   g.tsdf = findGrid<openvdb::FloatGrid>(grids, kTsdfGridName, path, true);
