@@ -120,7 +120,8 @@ MeshFrame parseFrameComment(std::istringstream& in, const std::string& path) {
   for (float& x : v) in >> x;
   bool finite = true;
   for (float x : v) finite = finite && std::isfinite(x);
-  if (in.fail() || key != "file_from_scene" || !finite || (frame.axes != "camera" && frame.axes != "z-up" && frame.axes != "y-up"))
+  const bool known_axes = frame.axes == "camera" || frame.axes == "z-up" || frame.axes == "y-up";
+  if (in.fail() || key != "file_from_scene" || !finite || !known_axes)
     throw Error(path + ": malformed '" + kFrameComment + "' header comment (expected axes camera, z-up or y-up, "
                 "then file_from_scene and 12 numbers)");
   for (int i = 0; i < 9; ++i) frame.file_from_scene.r[i] = v[i];

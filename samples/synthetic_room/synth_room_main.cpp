@@ -11,8 +11,8 @@
 #include <string>
 #include <system_error>
 
-#include "core/atomic_output.h"
 #include "app/usage_errors.h"
+#include "core/atomic_output.h"
 #include "core/error.h"
 #include "io/mesh_io.h"
 #include "io/trajectory_io.h"

@@ -127,7 +127,8 @@ int reportParseError(CLI::App& root, const CLI::ParseError& error, const std::st
   const bool has_commands = !root.get_subcommands({}).empty();
   const std::string name = command ? program + " " + command->get_name() : program;
   for (const std::string& line : lines) std::fprintf(stderr, "%s: %s\n", name.c_str(), line.c_str());
-  std::fprintf(stderr, "Run '%s --help' for %s.\n", name.c_str(), command || !has_commands ? "its options" : "the commands");
+  const char* help_lists = command || !has_commands ? "its options" : "the commands";
+  std::fprintf(stderr, "Run '%s --help' for %s.\n", name.c_str(), help_lists);
   return error.get_exit_code();
 }
 
