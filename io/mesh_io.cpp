@@ -4,7 +4,9 @@
 #include <assimp/scene.h>
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -357,6 +359,21 @@ double plyRead(const char* p, const std::string& t) {
   return get(double{});
 }
 
+// A value read for an integer field (a list's count, a vertex index, a class id): refused unless
+// it is a whole number in [lo, hi], so that no conversion of NaN or of 1e30 to an integer occurs.
+int64_t plyInteger(double d, double lo, double hi, const std::string& path, const char* what) {
+  if (!(d >= lo && d <= hi && d == std::floor(d))) {
+    std::ostringstream text;
+    text << path << ": PLY " << what << " " << d << " is not a whole number in [" << int64_t(lo) << ", " << int64_t(hi)
+         << "] (a damaged or crafted file)";
+    throw Error(text.str());
+  }
+  return int64_t(d);
+}
+
+// A colour channel: clamped, NaN as 0 (colours only tint; no reason to refuse the mesh).
+uint8_t plyByte(double d) { return d > 0 ? uint8_t(d < 255 ? d : 255) : uint8_t(0); }
+
 }  // namespace
 
 TriangleMesh readPly(const std::string& path, std::optional<MeshFrame>* frame) {
@@ -396,8 +413,17 @@ TriangleMesh readPly(const std::string& path, std::optional<MeshFrame>* frame) {
   if (format != "binary_little_endian" && format != "ascii")
     throw Error(path + ": PLY format '" + format + "' is not supported (binary_little_endian or ascii)");
   const bool ascii = format == "ascii";
+  const uintmax_t file_bytes = fs::file_size(path);
   TriangleMesh mesh;
   for (const PlyElement& el : elements) {
+    // Items without properties hold no data: nothing to read, however many the header states
+    // (looping over 10^14 of them hung the reader).
+    if (el.props.empty()) continue;
+    // Every other item takes at least a byte (ASCII: a digit and a separator), so a count beyond
+    // the file's size is a damaged or crafted header: refused before any loop or allocation.
+    if (el.count > file_bytes)
+      throw Error(path + ": PLY element '" + el.name + "' states " + std::to_string(el.count) + " items, more than the " +
+                  std::to_string(file_bytes) + " bytes of the file hold");
     const bool is_vertex = el.name == "vertex", is_face = el.name == "face";
     for (size_t i = 0; i < el.count; ++i) {
       Vec3f pos{0, 0, 0}, nrm{0, 0, 0};
@@ -416,9 +442,10 @@ TriangleMesh readPly(const std::string& path, std::optional<MeshFrame>* frame) {
           return plyRead(b, type);
         };
         if (prop.is_list) {
-          const size_t n = size_t(value(prop.count_type));
+          const size_t n = size_t(plyInteger(value(prop.count_type), 0, double(file_bytes), path, "list length"));
           std::vector<int32_t> idx(n);
-          for (size_t k = 0; k < n; ++k) idx[k] = int32_t(value(prop.type));
+          for (size_t k = 0; k < n; ++k)
+            idx[k] = int32_t(plyInteger(value(prop.type), INT32_MIN, INT32_MAX, path, "list entry"));
           if (is_face && (prop.name == "vertex_indices" || prop.name == "vertex_index"))
             for (size_t k = 1; k + 1 < n; ++k) mesh.triangles.push_back({idx[0], idx[k], idx[k + 1]});
           continue;
@@ -432,10 +459,10 @@ TriangleMesh readPly(const std::string& path, std::optional<MeshFrame>* frame) {
         else if (nm == "nx") nrm.x = float(d), has_n = true;
         else if (nm == "ny") nrm.y = float(d);
         else if (nm == "nz") nrm.z = float(d);
-        else if (nm == "red") col.r = uint8_t(d), has_c = true;
-        else if (nm == "green") col.g = uint8_t(d);
-        else if (nm == "blue") col.b = uint8_t(d);
-        else if (nm == "class") cls = int32_t(d), has_k = true;
+        else if (nm == "red") col.r = plyByte(d), has_c = true;
+        else if (nm == "green") col.g = plyByte(d);
+        else if (nm == "blue") col.b = plyByte(d);
+        else if (nm == "class") cls = int32_t(plyInteger(d, INT32_MIN, INT32_MAX, path, "class")), has_k = true;
       }
       if (!is_vertex) continue;
       mesh.positions.push_back(pos);
@@ -447,6 +474,15 @@ TriangleMesh readPly(const std::string& path, std::optional<MeshFrame>* frame) {
   for (const auto& t : mesh.triangles)
     for (int32_t v : t)
       if (v < 0 || size_t(v) >= mesh.positions.size()) throw Error(path + ": PLY face index out of range");
+  // Normals, colours and classes belong to every vertex or to none (two vertex elements with
+  // different properties broke that, and the writers index them per vertex).
+  const auto every_vertex = [&](size_t n, const char* what) {
+    if (n != 0 && n != mesh.positions.size())
+      throw Error(path + ": PLY vertices do not all carry " + what + " (a damaged or crafted file)");
+  };
+  every_vertex(mesh.normals.size(), "normals");
+  every_vertex(mesh.colors.size(), "colours");
+  every_vertex(mesh.classes.size(), "classes");
   return mesh;
 }
 

@@ -99,8 +99,16 @@ void runMeshEvaluation(const MeshEvaluationOptions& o) {
   }
   reconstruction = transformMesh(reconstruction, alignment.T_gt_est);
 
-  const std::vector<Vec3f> rec_points = sampleSurface(reconstruction, o.samples, 1);
-  std::vector<Vec3f> ref_points = sampleSurface(reference, o.samples, 2);
+  // Which file has nothing to sample (no triangle, or none with an area) is what the user needs.
+  const auto sampled = [&o](const TriangleMesh& mesh, uint64_t seed, const std::string& path) {
+    try {
+      return sampleSurface(mesh, o.samples, seed);
+    } catch (const Error& e) {
+      throw Error(path + ": " + e.what());
+    }
+  };
+  const std::vector<Vec3f> rec_points = sampled(reconstruction, 1, o.mesh);
+  std::vector<Vec3f> ref_points = sampled(reference, 2, o.reference);
   const size_t ref_sampled = ref_points.size();
   std::string seen_note = "all of it (give --trajectory and --dataset to count only what the cameras saw)";
   if (!estimate.empty() && !o.dataset.empty()) {

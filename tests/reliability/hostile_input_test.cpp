@@ -299,6 +299,33 @@ TEST(HostileInput, EvaluateRefusesDuplicateTimestamps) {
   EXPECT_EQ(numbers(sorted.output), numbers(reversed.output));
 }
 
+// Crafted PLY headers for evaluate --mesh: counts that no file of this size can hold, numbers that
+// are no index. A header stating 10^14 items without properties hung the reader; a list of 10^15
+// entries ran out of memory without naming the file.
+TEST(HostileInput, CraftedPlyHeadersNameTheFile) {
+  const std::string dir = test::tempDir("hostile_ply");
+  const std::string head = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n";
+  const std::string vertices = "0 0 0\n1 0 0\n0 1 0\n";
+  const std::string faces = "element face 1\nproperty list uchar int vertex_indices\n";
+  const std::string good = head + faces + "end_header\n" + vertices + "3 0 1 2\n";
+  test::writeText(dir + "/good.ply", good);
+  const std::vector<std::pair<std::string, std::string>> crafted = {
+      {"empty_items.ply", head + "element junk 99999999999999\nend_header\n" + vertices},
+      {"long_list.ply", head + "element face 1\nproperty list float int vertex_indices\nend_header\n" + vertices +
+                            "1e15 0 1 2\n"},
+      {"huge_index.ply", head + faces + "end_header\n" + vertices + "3 0 1 1e30\n"},
+      {"many_faces.ply", head + "element face 18446744073709551615\nproperty list uchar int vertex_indices\n"
+                                "end_header\n" + vertices + "3 0 1 2\n"},
+  };
+  for (const auto& [name, text] : crafted) {
+    test::writeText(dir + "/" + name, text);
+    expectRefused({"evaluate", "--mesh", dir + "/" + name, "--reference", dir + "/good.ply", "--samples", "1000"}, {name});
+  }
+  const test::CliRun run = runVdbfuse({"evaluate", "--mesh", dir + "/good.ply", "--reference", dir + "/good.ply",
+                                       "--samples", "1000"});
+  EXPECT_EQ(run.status, 0) << "the untouched file is read: " << run.output;
+}
+
 TEST(HostileInput, UnwritableTargetsAreErrorsNotCrashes) {
   const std::string dir = test::tempDir("hostile_unwritable");
   const std::string scene = test::writeSceneFixture(dir);
