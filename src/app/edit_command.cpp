@@ -9,6 +9,7 @@
 
 #include "app/command_registry.h"
 #include "app/output_policy.h"
+#include "app/scene_axes.h"
 #include "core/atomic_output.h"
 #include "core/error.h"
 #include "core/mapped_file.h"
@@ -24,6 +25,7 @@ struct EditOptions {
   std::string scene, output;
   std::vector<std::string> exclude;
   std::vector<float> crop_box;
+  std::string crop_axes = "camera";
   bool remove_outliers = false, force = false;
   size_t min_component = 500;
   float outlier_min_weight = 2;
@@ -33,6 +35,11 @@ struct EditOptions {
 void runEdit(const EditOptions& o) {
   namespace fs = std::filesystem;
   OutputPolicy::requireExtension(o.output, {".vdb"}, "-o");
+  // A bad box fails before the scene is read.
+  const std::vector<float>& b = o.crop_box;
+  if (!b.empty() && b.size() != 6) throw Error("--crop-box needs six numbers: xmin,ymin,zmin,xmax,ymax,zmax (metres)");
+  if (!b.empty() && !(b[0] < b[3] && b[1] < b[4] && b[2] < b[5]))
+    throw Error("--crop-box: need xmin < xmax, ymin < ymax and zmin < zmax (the first three numbers are the minimum)");
   const std::string trajectory_in = fs::path(o.scene).replace_extension(".txt").string();
   const std::string trajectory_out = fs::path(o.output).replace_extension(".txt").string();
   std::error_code ec;
@@ -54,10 +61,12 @@ void runEdit(const EditOptions& o) {
     std::printf("exclude-classes %s: removed %zu voxels\n", classNames(scene.meta.classes, ids).c_str(), n);
   }
   if (!o.crop_box.empty()) {
-    if (o.crop_box.size() != 6) throw Error("--crop-box needs six numbers: xmin,ymin,zmin,xmax,ymax,zmax (metres)");
-    const size_t n = cropToBox(scene, {o.crop_box[0], o.crop_box[1], o.crop_box[2]},
-                               {o.crop_box[3], o.crop_box[4], o.crop_box[5]});
-    std::printf("crop-box: removed %zu voxels outside the box\n", n);
+    const std::vector<float>& b = o.crop_box;
+    const SceneAxes axes = parseSceneAxes(o.crop_axes);
+    const Rigid3f box_from_scene = exportRotationFor(scene, o.scene, axes);
+    const size_t n = cropToBox(scene, {b[0], b[1], b[2]}, {b[3], b[4], b[5]}, box_from_scene);
+    std::printf("crop-box (%s axes%s): removed %zu voxels outside the box\n", sceneAxesName(axes),
+                axes == SceneAxes::kCamera ? ", the scene's own" : ", as the exports", n);
   }
   if (o.remove_outliers) {
     OutlierOptions options;
@@ -93,6 +102,11 @@ void setupEditCommand(CLI::App& root) {
   cmd->add_option("--exclude-classes", o->exclude, "remove the voxels of these classes (names or ids)")->delimiter(',');
   cmd->add_option("--crop-box", o->crop_box, "keep voxels inside xmin,ymin,zmin,xmax,ymax,zmax (metres)")
       ->delimiter(',');
+  cmd->add_option("--crop-axes", o->crop_axes,
+                  "frame of --crop-box: camera (the scene's, as `info` prints bounds), z-up (a PLY export in "
+                  "Blender) or y-up (OBJ / GLB files)")
+      ->check(CLI::IsMember({"camera", "z-up", "y-up"}))
+      ->capture_default_str();
   cmd->add_flag("--remove-outliers", o->remove_outliers,
                 "drop voxels observed fewer than --outlier-min-weight times, then the surface pieces under "
                 "--min-component triangles (the pieces `mesh --min-component` drops), so none is left");

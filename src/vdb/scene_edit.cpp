@@ -115,15 +115,15 @@ size_t excludeClassVoxels(Scene& scene, const std::set<int>& ids) {
   return removeMaskedVoxels(g, *mask);
 }
 
-size_t cropToBox(Scene& scene, Vec3f min_m, Vec3f max_m) {
+size_t cropToBox(Scene& scene, Vec3f min_m, Vec3f max_m, const Rigid3f& box_from_scene) {
   if (!(min_m.x < max_m.x && min_m.y < max_m.y && min_m.z < max_m.z))
-    throw Error("cropToBox: need xmin < xmax, ymin < ymax and zmin < zmax");
+    throw Error("crop box: need xmin < xmax, ymin < ymax and zmin < zmax");
   SceneGrids& g = scene.grids();
   const openvdb::math::Transform& xform = g.tsdf->transform();
   auto mask = maskWhere(g, [&](const openvdb::Coord& ijk, const FloatLeaf&, openvdb::Index) {
-    const openvdb::Vec3d p = xform.indexToWorld(ijk);
-    return p.x() < min_m.x || p.y() < min_m.y || p.z() < min_m.z || p.x() > max_m.x || p.y() > max_m.y ||
-           p.z() > max_m.z;
+    const openvdb::Vec3d w = xform.indexToWorld(ijk);
+    const Vec3f p = box_from_scene * Vec3f{float(w.x()), float(w.y()), float(w.z())};
+    return p.x < min_m.x || p.y < min_m.y || p.z < min_m.z || p.x > max_m.x || p.y > max_m.y || p.z > max_m.z;
   });
   return removeMaskedVoxels(g, *mask);
 }

@@ -12,8 +12,11 @@ namespace vf {
 // Deactivates every voxel whose class is in `ids` in all grids; returns tsdf voxels removed.
 size_t excludeClassVoxels(Scene& scene, const std::set<int>& ids);
 
-// Keeps only voxels whose centre lies inside [min_m, max_m]; returns tsdf voxels removed.
-size_t cropToBox(Scene& scene, Vec3f min_m, Vec3f max_m);
+// Keeps only voxels whose centre lies inside [min_m, max_m]; returns tsdf voxels removed. The box
+// is axis-aligned in the frame that `box_from_scene` takes scene positions into: the scene's own
+// by default, or an export frame (exportRotation: the Z-up of a PLY in Blender), so that a box
+// read off an exported mesh crops what it showed.
+size_t cropToBox(Scene& scene, Vec3f min_m, Vec3f max_m, const Rigid3f& box_from_scene = Rigid3f::identity());
 
 // Outlier removal, in two named parts:
 // - weakly observed voxels: weight below `min_weight` (0 keeps all);

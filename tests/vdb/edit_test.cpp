@@ -10,6 +10,7 @@
 #include "vdb/mesher.h"
 #include "vdb/scene.h"
 #include "vdb/scene_edit.h"
+#include "vdb/scene_grids.h"
 #include "vdb/scene_export.h"
 #include "vdb/scene_info.h"
 
@@ -61,6 +62,32 @@ TEST(SceneEdit, CropKeepsOnlyVoxelsInsideTheBox) {
   EXPECT_NEAR(s.bounds_min_m.z, 0.0f, 1e-5);  // first kept voxel centre z = 0.005
   EXPECT_NEAR(s.bounds_max_m.z, 0.24f, kVoxel + 1e-5);
   EXPECT_THROW(cropToBox(scene, {0, 0, 0}, {0, 1, 1}), Error);
+}
+
+// A box given in a rotated frame (as an export's Z-up) keeps exactly the voxels whose centres,
+// taken into that frame, lie inside it: here a slab tilted 30 degrees about x.
+TEST(SceneEdit, CropInARotatedFrameKeepsWhatThatFrameShowsInsideTheBox) {
+  Scene scene = sphereScene(false);
+  const float c = std::cos(0.5236f), s = std::sin(0.5236f);
+  const Rigid3f box_from_scene{{1, 0, 0, 0, c, -s, 0, s, c}, {0, 0, 0.05f}};
+  const Vec3f lo{-1, -1, 0.f}, hi{1, 1, 1};
+  const auto inside = [&](const openvdb::Vec3d& w) {
+    const Vec3f p = box_from_scene * Vec3f{float(w.x()), float(w.y()), float(w.z())};
+    return p.x >= lo.x && p.y >= lo.y && p.z >= lo.z && p.x <= hi.x && p.y <= hi.y && p.z <= hi.z;
+  };
+  const openvdb::FloatGrid& tsdf = *scene.grids().tsdf;
+  size_t expected_kept = 0;
+  for (auto it = tsdf.cbeginValueOn(); it; ++it) expected_kept += inside(tsdf.transform().indexToWorld(it.getCoord()));
+  const size_t before = scene.activeVoxelCount();
+  ASSERT_GT(expected_kept, before / 4);
+  ASSERT_LT(expected_kept, before * 3 / 4);
+  EXPECT_EQ(cropToBox(scene, lo, hi, box_from_scene), before - expected_kept);
+  EXPECT_EQ(scene.activeVoxelCount(), expected_kept);
+  for (auto it = scene.grids().tsdf->cbeginValueOn(); it; ++it)
+    ASSERT_TRUE(inside(tsdf.transform().indexToWorld(it.getCoord())));
+  // The axis-aligned box of the scene's own frame keeps a different set.
+  Scene plain = sphereScene(false);
+  EXPECT_NE(before - cropToBox(plain, lo, hi), expected_kept);
 }
 
 TEST(SceneEdit, OutlierRemovalDeletesFloatingBlobsAndKeepsTheSurface) {
