@@ -5,6 +5,7 @@
 
 #include "app/command_registry.h"
 #include "vdb/scene.h"
+#include "vdb/scene_frame.h"
 #include "vdb/scene_info.h"
 
 namespace vf::app {
@@ -12,8 +13,9 @@ namespace {
 
 void runInfo(const std::string& path) {
   const Scene scene = readScene(path);
-  const SceneSummary s = summarizeScene(scene);
   const SceneMetadata& m = scene.meta;
+  const bool up_known = norm(m.up_world) > 0;
+  const SceneSummary s = summarizeScene(scene, exportRotation(m, up_known ? SceneAxes::kZUp : SceneAxes::kCamera));
   std::printf("scene        %s\n", path.c_str());
   std::printf("source       %s (%d frames, vdbfuse %s)\n", m.source.empty() ? "?" : m.source.c_str(), m.frame_count,
               m.software_version.c_str());
@@ -24,9 +26,15 @@ void runInfo(const std::string& path) {
                 s.bounds_min_m.y, s.bounds_min_m.z, s.bounds_max_m.x, s.bounds_max_m.y, s.bounds_max_m.z,
                 s.bounds_max_m.x - s.bounds_min_m.x, s.bounds_max_m.y - s.bounds_min_m.y,
                 s.bounds_max_m.z - s.bounds_min_m.z);
-  if (norm(m.up_world) > 0)
+  if (up_known) {
     std::printf("up           [%.3f %.3f %.3f] from %s; forward [%.3f %.3f %.3f]\n", m.up_world.x, m.up_world.y,
                 m.up_world.z, m.up_source.c_str(), m.forward_world.x, m.forward_world.y, m.forward_world.z);
+    // Where the surface lies in the frame of a PLY export (what Blender shows; edit --crop-axes z-up).
+    if (s.surface_voxels > 0)
+      std::printf("surface z-up [%.3f %.3f %.3f] .. [%.3f %.3f %.3f] m, as PLY exports and edit --crop-axes z-up\n",
+                  s.surface_min_m.x, s.surface_min_m.y, s.surface_min_m.z, s.surface_max_m.x, s.surface_max_m.y,
+                  s.surface_max_m.z);
+  }
   else
     std::printf("up           not recorded (exports estimate it)\n");
   if (m.depth_intrinsics.valid())

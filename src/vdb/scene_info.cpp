@@ -2,6 +2,7 @@
 
 #include <tbb/parallel_reduce.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 
@@ -16,7 +17,7 @@ GridSummary gridSummary(const openvdb::GridBase& grid) {
 
 }  // namespace
 
-SceneSummary summarizeScene(const Scene& scene) {
+SceneSummary summarizeScene(const Scene& scene, const Rigid3f& surface_frame) {
   const SceneGrids& g = scene.grids();
   SceneSummary s;
   for (const openvdb::GridBase* grid :
@@ -38,8 +39,16 @@ SceneSummary summarizeScene(const Scene& scene) {
     s.bounds_max_m = {float(hi.x()), float(hi.y()), float(hi.z())};
   }
   const float voxel = float(g.tsdf->voxelSize()[0]);
-  for (auto it = g.tsdf->cbeginValueOn(); it; ++it)
-    if (std::fabs(*it) < voxel) ++s.surface_voxels;
+  Vec3f lo{3e38f, 3e38f, 3e38f}, hi{-3e38f, -3e38f, -3e38f};
+  for (auto it = g.tsdf->cbeginValueOn(); it; ++it) {
+    if (!(std::fabs(*it) < voxel)) continue;
+    ++s.surface_voxels;
+    const openvdb::Vec3d w = g.tsdf->indexToWorld(it.getCoord());
+    const Vec3f p = surface_frame * Vec3f{float(w.x()), float(w.y()), float(w.z())};
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  }
+  if (s.surface_voxels > 0) s.surface_min_m = lo, s.surface_max_m = hi;
   if (g.class_id) {
     std::map<int, size_t> counts;
     for (auto it = g.class_id->cbeginValueOn(); it; ++it) counts[*it] += it.getVoxelCount();

@@ -27,11 +27,15 @@ struct SceneSummary {
   size_t surface_voxels = 0;      // tsdf voxels with |sdf| < one voxel
   bool empty = true;
   Vec3f bounds_min_m{0, 0, 0}, bounds_max_m{0, 0, 0};  // outer faces of the active voxels
+  // The surface voxels' centres in summarizeScene's surface_frame (no surface: lo > hi).
+  Vec3f surface_min_m{1, 1, 1}, surface_max_m{0, 0, 0};
   size_t memory_bytes = 0;        // all grids
   std::vector<ClassVoxelCount> classes;  // active class-grid voxels per class, by id
 };
 
-SceneSummary summarizeScene(const Scene& scene);
+// `surface_frame`: the frame in which the surface bounds are taken (info passes the Z-up export
+// rotation, so that they are the coordinates Blender shows and --crop-axes z-up takes).
+SceneSummary summarizeScene(const Scene& scene, const Rigid3f& surface_frame = Rigid3f::identity());
 
 // One voxel of every grid, by index coordinate (the dense volume's voxel index).
 struct SceneVoxel {

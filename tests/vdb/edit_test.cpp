@@ -90,6 +90,20 @@ TEST(SceneEdit, CropInARotatedFrameKeepsWhatThatFrameShowsInsideTheBox) {
   EXPECT_NE(before - cropToBox(plain, lo, hi), expected_kept);
 }
 
+// info's "surface z-up": the surface voxels' centres in the frame it is given.
+TEST(SceneInfo, SurfaceBoundsAreTakenInTheGivenFrame) {
+  const Scene scene = sphereScene(false);
+  const SceneSummary own = summarizeScene(scene);
+  for (float v : {own.surface_min_m.x, own.surface_min_m.y, own.surface_min_m.z}) EXPECT_NEAR(v, -kRadius, kVoxel);
+  for (float v : {own.surface_max_m.x, own.surface_max_m.y, own.surface_max_m.z}) EXPECT_NEAR(v, kRadius, kVoxel);
+  // x -> y, y -> -x, then 1 m up z: the sphere's box moves and turns with it.
+  const SceneSummary turned = summarizeScene(scene, Rigid3f{{0, -1, 0, 1, 0, 0, 0, 0, 1}, {0, 0, 1}});
+  EXPECT_NEAR(turned.surface_min_m.x, -own.surface_max_m.y, 1e-5f);
+  EXPECT_NEAR(turned.surface_max_m.y, own.surface_max_m.x, 1e-5f);
+  EXPECT_NEAR(turned.surface_min_m.z, own.surface_min_m.z + 1.f, 1e-5f);
+  EXPECT_EQ(turned.surface_voxels, own.surface_voxels);
+}
+
 TEST(SceneEdit, OutlierRemovalDeletesFloatingBlobsAndKeepsTheSurface) {
   const TriangleMesh clean = meshScene(sphereScene(false));
   Scene scene = sphereScene(true);
