@@ -75,16 +75,22 @@ Trajectory loadGroundTruth(const std::string& path, const SourceOptions& source)
 
 void runMeshEvaluation(const MeshEvaluationOptions& o) {
   const auto start = std::chrono::steady_clock::now();
-  const TriangleMesh reference = readPly(o.reference);
-  std::optional<MeshFrame> frame;
-  TriangleMesh reconstruction = readPly(o.mesh, &frame);
   // A z-up or y-up export (vdbfuse's default for PLY) is compared in the scene's frame, the
-  // trajectory's: scored as written, it would lie metres off and score near zero.
-  std::string frame_note = "as written";
-  if (frame && frame->axes != "camera") {
-    toSceneFrame(reconstruction, *frame);
-    frame_note = "written --axes " + frame->axes + ", brought back into the scene's frame";
-  }
+  // trajectory's: scored as written, it would lie metres off and score near zero. So is a
+  // reference that vdbfuse wrote (another run's mesh), so that two exports still compare.
+  const auto readInSceneFrame = [](const std::string& path, std::string& note) {
+    std::optional<MeshFrame> frame;
+    TriangleMesh mesh = readPly(path, &frame);
+    note = "as written";
+    if (frame && frame->axes != "camera") {
+      toSceneFrame(mesh, *frame);
+      note = "written --axes " + frame->axes + ", brought back into the scene's frame";
+    }
+    return mesh;
+  };
+  std::string frame_note, reference_frame_note;
+  const TriangleMesh reference = readInSceneFrame(o.reference, reference_frame_note);
+  TriangleMesh reconstruction = readInSceneFrame(o.mesh, frame_note);
 
   Trajectory estimate;
   TrajectoryAlignment alignment;
@@ -130,8 +136,8 @@ void runMeshEvaluation(const MeshEvaluationOptions& o) {
 
   std::printf("reconstruction  %s (%zu triangles, %zu points sampled; %s)\n", o.mesh.c_str(),
               reconstruction.triangleCount(), rec_points.size(), frame_note.c_str());
-  std::printf("reference       %s (%zu triangles; completion over %s)\n", o.reference.c_str(),
-              reference.triangleCount(), seen_note.c_str());
+  std::printf("reference       %s (%zu triangles; completion over %s; %s)\n", o.reference.c_str(),
+              reference.triangleCount(), seen_note.c_str(), reference_frame_note.c_str());
   std::printf("alignment       %s\n\n", alignment.description.c_str());
   char label[32];
   std::snprintf(label, sizeof label, "F-score@%gcm", o.threshold_m * 100);

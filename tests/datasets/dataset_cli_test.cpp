@@ -241,6 +241,13 @@ TEST(EvaluateMesh, TrajectoryAlignsTheMeshAndLimitsCompletionToWhatWasSeen) {
   EXPECT_NE(log.find("written --axes z-up, brought back into the scene's frame"), std::string::npos) << log;
   EXPECT_NEAR(figure(log, "accuracy"), figure(camera_log, "accuracy"), 0.01) << log;
   EXPECT_NEAR(figure(log, "completion"), figure(camera_log, "completion"), 0.1) << log;
+  // Two exports compare as before: a vdbfuse reference is brought back the same way.
+  log = run("evaluate --mesh " + dir + "/s_zup.ply --reference " + dir + "/s.ply --samples 200000", status);
+  ASSERT_EQ(status, 0) << log;
+  EXPECT_LT(figure(log, "accuracy"), 0.01) << log;  // cm: the same surface
+  log = run("evaluate --mesh " + dir + "/s.ply --reference " + dir + "/s_zup.ply --samples 200000", status);
+  ASSERT_EQ(status, 0) << log;
+  EXPECT_LT(figure(log, "accuracy"), 0.01) << log;
   // Without the dataset nothing is culled, and the wall is mostly not reconstructed. Without
   // the trajectory nothing is aligned: --poses given fused in the recorded world frame, which is
   // the reference's, so the mesh lies on the wall as it is.
