@@ -65,7 +65,8 @@ void exportBlender(Scene& scene, const ExportOptions& o) {
   std::string manifest = "{\n  \"meshes\": [\n";
   bool first = true;
   std::string report;
-  const std::map<int32_t, TriangleMesh> parts = splitByClass(mesh);
+  std::map<int32_t, TriangleMesh> parts = splitByClass(mesh);
+  mesh = TriangleMesh();  // the parts hold it now; the volume below needs the memory
   std::vector<int32_t> ids;
   for (const auto& [id, part] : parts) ids.push_back(id);
   const std::map<int32_t, std::string> stems = uniqueClassFileStems(scene.meta.classes, ids);
@@ -82,6 +83,7 @@ void exportBlender(Scene& scene, const ExportOptions& o) {
     first = false;
     report += "wrote " + file + ": " + std::to_string(part.triangleCount()) + " triangles\n";
   }
+  parts.clear();
   const BlenderVolumeInfo volume = writeBlenderVolume(scene, folder.file("volume.vdb"), to_file);
   char volume_line[160];
   std::snprintf(volume_line, sizeof volume_line,
