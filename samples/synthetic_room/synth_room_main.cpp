@@ -193,10 +193,10 @@ int main(int argc, char** argv) {
   app.add_flag("-f,--force", o.force, "replace an existing output folder, with everything in it");
   app.add_flag("--no-noise", o.no_noise, "a perfect sensor: exact depth everywhere, exact colour");
   app.add_option("--evaluate", o.evaluate, "score this reconstructed mesh (PLY) instead of writing the scan")
-      ->check(CLI::ExistingFile);
+      ->check(vf::app::existingFile());
   app.add_option("--trajectory", o.trajectory,
                  "with --evaluate: the reconstruction's trajectory (TUM), to bring the mesh into the room's frame")
-      ->check(CLI::ExistingFile);
+      ->check(vf::app::existingFile());
   app.add_option("--align", o.align, "with --trajectory: ate (the ATE's rigid alignment), first or none")
       ->capture_default_str()
       ->check(CLI::IsMember({"ate", "first", "none"}));

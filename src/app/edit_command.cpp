@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "app/command_registry.h"
+#include "app/usage_errors.h"
 #include "app/output_policy.h"
 #include "app/scene_axes.h"
 #include "core/atomic_output.h"
@@ -96,7 +97,7 @@ void runEdit(const EditOptions& o) {
 void setupEditCommand(CLI::App& root) {
   auto o = std::make_shared<EditOptions>();
   CLI::App* cmd = root.add_subcommand("edit", "Remove classes, crop, drop outliers or smooth a scene into a new .vdb");
-  cmd->add_option("scene", o->scene, "input scene (.vdb), never modified")->required()->check(CLI::ExistingFile);
+  cmd->add_option("scene", o->scene, "input scene (.vdb), never modified")->required()->check(existingFile());
   cmd->add_option("-o,--output", o->output, "output scene (.vdb)")->required();
   cmd->add_flag("-f,--force", o->force, "overwrite an existing output");
   cmd->add_option("--exclude-classes", o->exclude, "remove the voxels of these classes (names or ids)")->delimiter(',');

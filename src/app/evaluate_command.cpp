@@ -7,6 +7,7 @@
 #include <string>
 
 #include "app/command_registry.h"
+#include "app/usage_errors.h"
 #include "app/mesh_evaluation.h"
 #include "app/open_source.h"
 #include "core/error.h"
@@ -68,20 +69,20 @@ void setupEvaluateCommand(CLI::App& root) {
   cmd->add_option("--trajectory,-t", options->trajectory,
                   "estimated trajectory, TUM format (timestamp tx ty tz qx qy qz qw); with --mesh it aligns the mesh "
                   "to the reference and, with --dataset, limits completion to what it saw")
-      ->check(CLI::ExistingFile);
+      ->check(existingFile());
   cmd->add_option("--groundtruth,-g", options->groundtruth,
                   "ground-truth trajectory: a TUM file (e.g. groundtruth.txt) or a dataset folder with poses "
                   "(7-Scenes, Replica, ScanNet, Redwood, TUM)")
-      ->check(CLI::ExistingPath);
+      ->check(existingPath());
   cmd->add_option("--dataset", options->mesh.dataset,
                   "the input folder: its poses are the ground truth unless --groundtruth is given, and its intrinsics "
                   "and depth tell which parts of the reference the trajectory saw")
-      ->check(CLI::ExistingPath);
+      ->check(existingPath());
   cmd->add_option("--delta", options->delta_frames, "RPE frame distance")
       ->capture_default_str()
       ->check(CLI::Range(1, 1000000));
-  cmd->add_option("--mesh", options->mesh.mesh, "reconstructed mesh (PLY, e.g. from vdbfuse mesh)")->check(CLI::ExistingFile);
-  cmd->add_option("--reference", options->mesh.reference, "ground-truth mesh (PLY)")->check(CLI::ExistingFile);
+  cmd->add_option("--mesh", options->mesh.mesh, "reconstructed mesh (PLY, e.g. from vdbfuse mesh)")->check(existingFile());
+  cmd->add_option("--reference", options->mesh.reference, "ground-truth mesh (PLY)")->check(existingFile());
   cmd->add_option("--max-distance", options->mesh.threshold_m,
                   "metres: a point within this of the other surface counts for completion and the F-score")
       ->capture_default_str()

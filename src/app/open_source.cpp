@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/similar_names.h"
 #include "io/dataset_layouts.h"
 #include "io/record3d.h"
 #include "io/record3d_export.h"
@@ -40,7 +41,7 @@ bool hasSequenceFolders(const fs::path& dir) {
 }
 
 std::string detectFormat(const std::string& path) {
-  if (!fs::exists(path)) throw Error(path + ": no such file or folder");
+  if (!fs::exists(path)) throw Error(noSuchPathMessage(path));
   const fs::path p(path);
   if (fs::is_regular_file(p)) {
     if (p.extension() == ".r3d") return "r3d";

@@ -2,50 +2,11 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
+
+#include "core/similar_names.h"
 
 namespace vf::app {
-
-int typoDistance(const std::string& a, const std::string& b) {
-  // Optimal string alignment over three rows of the table.
-  const size_t n = a.size(), m = b.size();
-  std::vector<int> before(m + 1), previous(m + 1), current(m + 1);
-  for (size_t j = 0; j <= m; ++j) previous[j] = int(j);
-  for (size_t i = 1; i <= n; ++i) {
-    current[0] = int(i);
-    for (size_t j = 1; j <= m; ++j) {
-      const int substitution = previous[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1);
-      current[j] = std::min({previous[j] + 1, current[j - 1] + 1, substitution});
-      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
-        current[j] = std::min(current[j], before[j - 2] + 1);
-    }
-    std::swap(before, previous);
-    std::swap(previous, current);
-  }
-  return previous[m];
-}
-
-std::vector<std::string> likelyNames(const std::string& word, const std::vector<std::string>& candidates) {
-  const auto bare = [](const std::string& s) { return s.substr(std::min(s.find_first_not_of('-'), s.size())); };
-  const std::string w = bare(word);
-  if (w.empty()) return {};
-  // One edit in a short word, up to three in a long one: "--voxel-szie-m" finds "--voxel-size-m",
-  // "--formt" does not find "--force".
-  const int allowed = w.size() <= 5 ? 1 : w.size() <= 9 ? 2 : 3;
-  std::string best;
-  int best_distance = allowed + 1;
-  for (const std::string& candidate : candidates) {
-    const int d = typoDistance(w, bare(candidate));
-    if (d < best_distance) best = candidate, best_distance = d;
-  }
-  if (!best.empty()) return {best};
-  // A part of a name: "--max-depth" for "--max-depth-m", "--classes" for "--include-classes"
-  // and "--exclude-classes".
-  std::vector<std::string> containing;
-  for (const std::string& candidate : candidates)
-    if (w.size() >= 3 && bare(candidate).find(w) != std::string::npos) containing.push_back(candidate);
-  if (containing.size() > 3) containing.clear();  // too general to help
-  return containing;
-}
 
 namespace {
 
@@ -130,6 +91,26 @@ int reportParseError(CLI::App& root, const CLI::ParseError& error, const std::st
   const char* help_lists = command || !has_commands ? "its options" : "the commands";
   std::fprintf(stderr, "Run '%s --help' for %s.\n", name.c_str(), help_lists);
   return error.get_exit_code();
+}
+
+CLI::Validator existingFile() {
+  return CLI::Validator(
+      [](std::string& path) -> std::string {
+        std::error_code ec;
+        if (!std::filesystem::exists(path, ec)) return noSuchPathMessage(path, "file");
+        if (std::filesystem::is_directory(path, ec)) return path + ": a folder, not a file";
+        return "";
+      },
+      "FILE");
+}
+
+CLI::Validator existingPath() {
+  return CLI::Validator(
+      [](std::string& path) -> std::string {
+        std::error_code ec;
+        return std::filesystem::exists(path, ec) ? "" : noSuchPathMessage(path);
+      },
+      "PATH");
 }
 
 }  // namespace vf::app

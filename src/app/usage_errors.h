@@ -10,16 +10,14 @@
 
 namespace vf::app {
 
-// Edit distance with adjacent transpositions ("szie" -> "size" is one edit).
-int typoDistance(const std::string& a, const std::string& b);
-
-// The names `word` was probably meant to be: the closest one within a few edits, else the few that
-// contain it; none when nothing is close enough to help.
-std::vector<std::string> likelyNames(const std::string& word, const std::vector<std::string>& candidates);
-
 // Prints the parse error to stderr as "PROGRAM COMMAND: ..." with suggestions; returns the exit
 // status. Help and --version requests are printed as CLI11 prints them. vdbfuse-view, which has
 // no commands, shares it.
 int reportParseError(CLI::App& root, const CLI::ParseError& error, const std::string& program);
+
+// CLI11's ExistingFile / ExistingPath, with the names beside a missing one that it was probably
+// meant to be (core/similar_names.h) instead of "File does not exist: PATH".
+CLI::Validator existingFile();
+CLI::Validator existingPath();
 
 }  // namespace vf::app

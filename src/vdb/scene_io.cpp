@@ -10,6 +10,7 @@
 
 #include "core/atomic_output.h"
 #include "core/error.h"
+#include "core/similar_names.h"
 #include "core/version.h"
 #include "vdb/scene.h"
 #include "vdb/scene_grids.h"
@@ -180,7 +181,7 @@ static void checkGridTransforms(const SceneGrids& g, const std::string& path) {
 
 Scene readScene(const std::string& path) {
   ensureOpenVdbInitialized();
-  if (!fs::exists(path)) throw Error(path + ": scene file does not exist");
+  if (!fs::exists(path)) throw Error(noSuchPathMessage(path, "scene file"));
   const std::vector<std::string> names = {kTsdfGridName, kWeightGridName, kColorGridName, kClassGridName,
                                           kClassConfidenceGridName};
   // libopenvdb allocates whatever sizes a file states; the check bounds them by the file's size.
