@@ -29,15 +29,6 @@ std::string joined(const std::vector<std::string>& words) {
   return out;
 }
 
-// " (did you mean a, b or c?)", quoted when the names are commands.
-std::string suggestion(const std::vector<std::string>& names, const char* quote = "") {
-  if (names.empty()) return "";
-  std::string out = " (did you mean ";
-  for (size_t i = 0; i < names.size(); ++i)
-    out += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + (quote + names[i] + quote);
-  return out + "?)";
-}
-
 // One line per word the command did not take. The word after an unknown option is taken to be
 // that option's value and is not reported again.
 std::vector<std::string> unknownWords(const std::vector<std::string>& words, const std::vector<std::string>& options) {
@@ -49,7 +40,7 @@ std::vector<std::string> unknownWords(const std::vector<std::string>& words, con
     if (is_option) {
       std::string name = word.substr(0, word.find('='));
       if (name.find_first_not_of('-') == std::string::npos) name = word;  // "--=x"
-      lines.push_back("unknown option " + name + suggestion(likelyNames(name, options)));
+      lines.push_back("unknown option " + name + didYouMean(likelyNames(name, options)));
     } else if (!after_unknown_option) {
       lines.push_back("unexpected argument '" + word + "'");
     }
@@ -74,7 +65,7 @@ int reportParseError(CLI::App& root, const CLI::ParseError& error, const std::st
     const auto first_word = std::find_if(words.begin(), words.end(), [](const std::string& w) { return w[0] != '-'; });
     if (first_word != words.end()) {
       const std::vector<std::string> names = commandNames(root);
-      lines.push_back("unknown command '" + *first_word + "'" + suggestion(likelyNames(*first_word, names), "'") +
+      lines.push_back("unknown command '" + *first_word + "'" + didYouMean(likelyNames(*first_word, names), "'") +
                       "; the commands are " + joined(names));
     } else if (!words.empty()) {
       lines = unknownWords(words, optionNames(root));

@@ -53,9 +53,16 @@ std::vector<std::string> likelyNames(const std::string& word, const std::vector<
   return containing;
 }
 
+std::string didYouMean(const std::vector<std::string>& names, const std::string& quote) {
+  if (names.empty()) return "";
+  std::string out = " (did you mean ";
+  for (size_t i = 0; i < names.size(); ++i)
+    out += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + (quote + names[i] + quote);
+  return out + "?)";
+}
+
 std::string noSuchPathMessage(const std::string& path, const std::string& what) {
   namespace fs = std::filesystem;
-  std::string message = path + (what == "file or folder" ? ": no such file or folder" : ": no such " + what);
   fs::path p(path);
   if (p.filename().empty()) p = p.parent_path();  // "dir/" names dir
   const fs::path folder = p.has_parent_path() ? p.parent_path() : fs::path(".");
@@ -63,12 +70,10 @@ std::string noSuchPathMessage(const std::string& path, const std::string& what) 
   std::error_code ec;
   for (fs::directory_iterator it(folder, ec), end; !ec && it != end && names.size() < 100000; it.increment(ec))
     names.push_back(it->path().filename().string());
-  const std::vector<std::string> likely = likelyNames(p.filename().string(), names);
-  for (size_t i = 0; i < likely.size(); ++i) {
-    const std::string shown = p.has_parent_path() ? (folder / likely[i]).string() : likely[i];
-    message += (i == 0 ? " (did you mean " : i + 1 == likely.size() ? " or " : ", ") + shown;
-  }
-  return likely.empty() ? message : message + "?)";
+  std::vector<std::string> likely = likelyNames(p.filename().string(), names);
+  if (p.has_parent_path())
+    for (std::string& name : likely) name = (folder / name).string();
+  return path + ": no such " + what + didYouMean(likely);
 }
 
 }  // namespace vf
