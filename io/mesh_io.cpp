@@ -140,12 +140,6 @@ MeshFrame parseFrameComment(std::istringstream& in, const std::string& path) {
 
 }  // namespace
 
-void toSceneFrame(TriangleMesh& mesh, const MeshFrame& frame) {
-  const Rigid3f T = frame.file_from_scene.inverse();
-  for (Vec3f& p : mesh.positions) p = T * p;
-  for (Vec3f& n : mesh.normals) n = T.rotate(n);
-}
-
 void writePly(const TriangleMesh& mesh, const std::string& path, bool with_class_property,
               const std::optional<MeshFrame>& frame) {
   checkMesh(mesh, path);
@@ -483,6 +477,18 @@ TriangleMesh readPly(const std::string& path, std::optional<MeshFrame>* frame) {
   every_vertex(mesh.normals.size(), "normals");
   every_vertex(mesh.colors.size(), "colours");
   every_vertex(mesh.classes.size(), "classes");
+  return mesh;
+}
+
+TriangleMesh readPlyInSceneFrame(const std::string& path, std::string* note) {
+  std::optional<MeshFrame> frame;
+  TriangleMesh mesh = readPly(path, &frame);
+  if (note) *note = "as written";
+  if (!frame || frame->axes == "camera") return mesh;
+  const Rigid3f T = frame->file_from_scene.inverse();
+  for (Vec3f& p : mesh.positions) p = T * p;
+  for (Vec3f& n : mesh.normals) n = T.rotate(n);
+  if (note) *note = "written --axes " + frame->axes + ", brought back into the scene's frame";
   return mesh;
 }
 

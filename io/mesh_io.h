@@ -52,7 +52,9 @@ void writeGlb(const TriangleMesh& mesh, const std::string& path, const MeshWrite
 // when given, receives the frame the header records (nullopt: none, as in other tools' files).
 TriangleMesh readPly(const std::string& path, std::optional<MeshFrame>* frame = nullptr);
 
-// Positions and normals moved from `frame` back into the scene's frame.
-void toSceneFrame(TriangleMesh& mesh, const MeshFrame& frame);
+// readPly, then a file vdbfuse wrote in another frame (mesh/export --axes z-up or y-up) moved
+// back into the scene's frame, the trajectory's: what a comparison with ground truth needs.
+// `note` says which ("as written", or "written --axes z-up, brought back into the scene's frame").
+TriangleMesh readPlyInSceneFrame(const std::string& path, std::string* note = nullptr);
 
 }  // namespace vf

@@ -135,13 +135,8 @@ void evaluate(const Options& o) {
   const Trajectory path = cameraPath(o.frames);
   const std::vector<uint8_t> seen = markSeen(room, samples, path, kinectIntrinsics(width, height));
 
-  std::optional<MeshFrame> frame;
-  TriangleMesh mesh = readPly(o.evaluate, &frame);
-  std::string frame_note = "as written";
-  if (frame && frame->axes != "camera") {  // scored as written, a z-up export would lie metres off
-    toSceneFrame(mesh, *frame);
-    frame_note = "written --axes " + frame->axes + ", brought back into the scene's frame";
-  }
+  std::string frame_note;  // scored as written, a z-up export would lie metres off
+  TriangleMesh mesh = readPlyInSceneFrame(o.evaluate, &frame_note);
   Pose T = Pose::Identity();
   if (!o.trajectory.empty()) {
     T = alignTo(readTumTrajectory(o.trajectory), path, parseAlignment(o.align));

@@ -62,7 +62,6 @@ void runEdit(const EditOptions& o) {
     std::printf("exclude-classes %s: removed %zu voxels\n", classNames(scene.meta.classes, ids).c_str(), n);
   }
   if (!o.crop_box.empty()) {
-    const std::vector<float>& b = o.crop_box;
     const SceneAxes axes = parseSceneAxes(o.crop_axes);
     const Rigid3f box_from_scene = exportRotationFor(scene, o.scene, axes);
     const size_t n = cropToBox(scene, {b[0], b[1], b[2]}, {b[3], b[4], b[5]}, box_from_scene);

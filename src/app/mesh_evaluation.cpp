@@ -78,19 +78,9 @@ void runMeshEvaluation(const MeshEvaluationOptions& o) {
   // A z-up or y-up export (vdbfuse's default for PLY) is compared in the scene's frame, the
   // trajectory's: scored as written, it would lie metres off and score near zero. So is a
   // reference that vdbfuse wrote (another run's mesh), so that two exports still compare.
-  const auto readInSceneFrame = [](const std::string& path, std::string& note) {
-    std::optional<MeshFrame> frame;
-    TriangleMesh mesh = readPly(path, &frame);
-    note = "as written";
-    if (frame && frame->axes != "camera") {
-      toSceneFrame(mesh, *frame);
-      note = "written --axes " + frame->axes + ", brought back into the scene's frame";
-    }
-    return mesh;
-  };
   std::string frame_note, reference_frame_note;
-  const TriangleMesh reference = readInSceneFrame(o.reference, reference_frame_note);
-  TriangleMesh reconstruction = readInSceneFrame(o.mesh, frame_note);
+  const TriangleMesh reference = readPlyInSceneFrame(o.reference, &reference_frame_note);
+  TriangleMesh reconstruction = readPlyInSceneFrame(o.mesh, &frame_note);
 
   Trajectory estimate;
   TrajectoryAlignment alignment;

@@ -20,7 +20,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (frame) {
       for (float r : frame->file_from_scene.r)
         if (!std::isfinite(r)) std::abort();
-      vf::toSceneFrame(mesh, *frame);
+      const vf::TriangleMesh back = vf::readPlyInSceneFrame(path);
+      if (back.positions.size() != mesh.positions.size()) std::abort();
     }
   } catch (const vf::Error&) {
   }

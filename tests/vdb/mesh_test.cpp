@@ -231,11 +231,13 @@ TEST(MeshFiles, PlyRecordsItsFrameAndReadingItBackUndoesTheRotation) {
   writePly(mesh, dir + "/plain.ply", false);
 
   std::optional<MeshFrame> frame;
-  TriangleMesh back = readPly(dir + "/z.ply", &frame);
+  const TriangleMesh as_written = readPly(dir + "/z.ply", &frame);
   ASSERT_TRUE(frame.has_value());
   EXPECT_EQ(frame->axes, "z-up");
-  EXPECT_NE(back.positions[0].y, mesh.positions[0].y);  // as written: rotated
-  toSceneFrame(back, *frame);
+  EXPECT_NE(as_written.positions[0].y, mesh.positions[0].y);  // rotated
+  std::string note;
+  const TriangleMesh back = readPlyInSceneFrame(dir + "/z.ply", &note);
+  EXPECT_EQ(note, "written --axes z-up, brought back into the scene's frame");
   for (size_t v = 0; v < mesh.positions.size(); ++v) {
     EXPECT_NEAR(back.positions[v].x, mesh.positions[v].x, 1e-6f);
     EXPECT_NEAR(back.positions[v].y, mesh.positions[v].y, 1e-6f);
@@ -244,6 +246,8 @@ TEST(MeshFiles, PlyRecordsItsFrameAndReadingItBackUndoesTheRotation) {
   }
   readPly(dir + "/plain.ply", &frame);
   EXPECT_FALSE(frame.has_value());
+  EXPECT_EQ(readPlyInSceneFrame(dir + "/plain.ply", &note).positions[0].y, mesh.positions[0].y);
+  EXPECT_EQ(note, "as written");
 
   // The record with a number missing: an error naming the file, not a silently wrong frame.
   std::ifstream in(dir + "/z.ply", std::ios::binary);
