@@ -1,4 +1,4 @@
-# Stand-in for TBB's CMake package while VTK looks for TBB (viewer/CMakeLists.txt).
+# Stand-in for TBB's CMake package while VTK looks for TBB (viewer/CMakeLists.txt, src/slam/CMakeLists.txt: VTK and Ceres).
 # The top level already made TBB::tbb with OpenVDB's FindTBB; TBB's own TBBConfig.cmake then
 # refuses to load ("Some (but not all) targets in this export set were already defined").
 # VTK only needs TBB::tbb to exist, so reuse it; without it, defer to the real package.
