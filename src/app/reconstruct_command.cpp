@@ -1,9 +1,12 @@
 // vdbfuse reconstruct DATASET -o scene.vdb: parses the options, runs a Reconstruction
-// (fusion/reconstruction.h) and writes the scene, the trajectory and, when asked or interrupted,
+// (slam/reconstruction.h) and writes the scene, the trajectory and, when asked or interrupted,
 // a checkpoint to resume from.
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
 
 #include "app/command_registry.h"
 #include "app/frame_renders.h"
@@ -14,7 +17,7 @@
 #include "app/run_control.h"
 #include "core/error.h"
 #include "core/version.h"
-#include "fusion/reconstruction.h"
+#include "slam/reconstruction.h"
 #include "io/trajectory_io.h"
 #include "vdb/scene.h"
 #include "vdb/scene_frame.h"
@@ -27,6 +30,26 @@ void checkGpuFits(const ReconstructOptions& o, const ReconstructionOptions& r, c
   if (r.device == Device::Cuda && cudaMemoryInfo(gpu.free_bytes, gpu.total_bytes))
     checkFitsGpu(Pipeline::startupDeviceBytes(camera, r.with_classes), gpu,
                  "fusing " + o.dataset + " (" + std::to_string(camera.width) + "x" + std::to_string(camera.height) + ")");
+}
+
+// A run that fused nothing wrote nothing worth keeping: say why, from the most common reason.
+std::string nothingFusedMessage(const ReconstructOptions& o, const Reconstruction& run) {
+  std::map<LostReason, int> count;
+  const LostFrame* example = nullptr;
+  for (const LostFrame& l : run.lostFrames()) {
+    const int n = ++count[l.reason];
+    if (!example || n > count[example->reason]) example = &l;
+  }
+  std::string message = o.dataset + ": no frame was fused (" + std::to_string(run.framesDone()) + " frames";
+  if (example)
+    message += "; " + std::to_string(count[example->reason]) + " with " + lostReasonName(example->reason) + ", e.g. " +
+               example->name + ": " + example->why;
+  message += ")";
+  if (example && example->reason == LostReason::NoDepth)
+    message += ". Check --depth-scale (the depth's units per metre) and --max-depth-m (the fusion range)";
+  if (example && example->reason == LostReason::OutOfReach)
+    message += ". The recorded poses are far from their origin; --poses icp tracks from the first frame instead";
+  return message + "; no scene was written";
 }
 
 void runReconstruct(const ReconstructOptions& o) {
@@ -50,12 +73,11 @@ void runReconstruct(const ReconstructOptions& o) {
   fusion.settings = runSettings(o, *source, fusion.device);
   checkGpuFits(o, fusion, source->depthIntrinsics());
   Reconstruction run(*source, fusion);
-  Pipeline& pipeline = run.pipeline();
   if (!o.quiet)
     std::fprintf(stderr, "%s: %d frames, %dx%d, voxels of %.2f mm, depth up to %.1f m, device %s\n",
                  source->description().c_str(), run.frameCount(), source->depthIntrinsics().width,
                  source->depthIntrinsics().height, fusion.params.volume.voxel_size_m * 1000.f, o.max_depth_m,
-                 deviceName(pipeline.device()).c_str());
+                 deviceName(run.pipeline().device()).c_str());
   if (o.resume) {
     run.resume(o.checkpoint());
     if (!o.quiet)
@@ -79,13 +101,14 @@ void runReconstruct(const ReconstructOptions& o) {
   auto writeOutputs = [&](bool with_checkpoint) {
     Written w;
     if (!o.output.empty()) {
-      meta.frame_count = run.framesDone() - pipeline.framesLost();
+      meta.frame_count = run.framesFused();
       // Straight from the bricks: the scene's grids in memory would take twice the bricks' memory.
-      const BrickVolumeView bricks = pipeline.hostVolume();  // one download on CUDA
+      const BrickVolumeView bricks = run.pipeline().hostVolume();  // one download on CUDA
       w.up = setSceneFrame(meta, bricks, run.trajectory(), *source);
       w.voxels = writeSceneFromBricks(bricks, meta, o.output);
     }
     if (!o.trajectory.empty()) writeTumTrajectory(o.trajectory, run.trajectory());
+    if (!o.odometry.empty()) writeTumTrajectory(o.odometry, run.pass() == 2 ? run.odometry() : run.trajectory());
     if (o.output.empty()) return w;
     if (with_checkpoint) run.saveCheckpoint(o.checkpoint());
     return w;
@@ -93,22 +116,39 @@ void runReconstruct(const ReconstructOptions& o) {
 
   RenderOutputs renders(o.renders_dir, o.video);
   StopSignals stop("finishing this frame, then saving the scene and a checkpoint; a second signal waits for the save");
-  ProgressBar progress(run.frameCount(), !o.quiet);
+  auto progress = std::make_unique<ProgressBar>(run.frameCount(), !o.quiet);
   Reconstruction::Callbacks callbacks;
   std::vector<int> bricks_per_frame;
   callbacks.on_frame = [&](const RgbdFrame& frame, const FrameResult& result) {
     if (result.integrated) bricks_per_frame.push_back(result.bricks_fused);
-    renders.add(run.framesDone() - 1, frame, pipeline);
+    if (run.pass() == 1) renders.add(run.framesDone() - 1, frame, run.pipeline());
     const size_t lost = run.lostFrames().size();
-    progress.update(run.framesDone(), lost == 0 ? "" : std::to_string(lost) + " lost");
+    progress->update(run.framesDone(), lost == 0 || run.pass() == 2 ? "" : std::to_string(lost) + " lost");
+  };
+  // Pass 1's figures, kept when the second pass starts (its pipeline has a timer of its own).
+  std::optional<StageTimer> first_pass_timer;
+  double first_pass_s = 0;
+  int first_pass_frames = 0;
+  auto start = std::chrono::steady_clock::now();
+  callbacks.on_second_pass = [&](const slam::GlobalReport& report) {
+    progress->finish();
+    first_pass_timer = run.pipeline().timer();
+    first_pass_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    first_pass_frames = run.frameCount();
+    if (!o.quiet)
+      std::fprintf(stderr, "loop closure: %d of %d loops hold; fusing again at the optimised poses (frames moved up to %.1f cm)\n",
+                   report.loops_accepted, report.loops_found, 100.0 * report.largest_correction_m);
+    bricks_per_frame.clear();
+    progress = std::make_unique<ProgressBar>(run.frameCount(), !o.quiet);
   };
   callbacks.should_stop = [&] { return stop.received() != 0; };
   callbacks.checkpoint_every = o.checkpoint_every;
   callbacks.on_checkpoint = [&] { writeOutputs(true); };
   const int first = run.framesDone();
-  const auto start = std::chrono::steady_clock::now();
+  const bool resumed_in_second_pass = run.pass() == 2;
+  start = std::chrono::steady_clock::now();
   const Reconstruction::Outcome outcome = run.run(callbacks, o.bench);
-  progress.finish();
+  progress->finish();
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   renders.close();
 
@@ -116,8 +156,8 @@ void runReconstruct(const ReconstructOptions& o) {
     const bool full = outcome == Reconstruction::Outcome::VolumeFull;
     if (full)
       std::fprintf(stderr, "\nthe volume is full after frame %d of %d: %d bricks (%.1f GiB) are all the memory allows\n",
-                   run.framesDone(), run.frameCount(), pipeline.brickCount(),
-                   double(pipeline.volumeBytes()) / double(1u << 30));
+                   run.framesDone(), run.frameCount(), run.pipeline().brickCount(),
+                   double(run.pipeline().volumeBytes()) / double(1u << 30));
     else
       std::fprintf(stderr, "\n%s: stopping after frame %d of %d\n", StopSignals::name(stop.received()).c_str(),
                    run.framesDone(), run.frameCount());
@@ -131,9 +171,19 @@ void runReconstruct(const ReconstructOptions& o) {
     throw ExitWithStatus(StopSignals::exitStatus(stop.received()), "interrupted");
   }
 
-  printTrackingSummary(run.frameCount(), run.lostFrames());
+  printTrackingSummary(run.frameCount(), run.lostFrames(), run.framesFused(), run.tracker().relocalisations());
+  if (run.framesFused() == 0) throw Error(nothingFusedMessage(o, run));
   if (labeled) printLabelSummary(labeled->stats(), labeled->classes(), run.frameCount());
-  printTimingTable(pipeline.timer(), run.frameCount() - first, wall_s, std::move(bricks_per_frame));
+  if (fusion.poses != PoseSource::Given) printLoopClosure(run.globalReport(), fusion.global.loop_closure);
+  if (first_pass_timer) {
+    std::printf("\nfirst pass (tracking and fusion):");
+    printTimingTable(*first_pass_timer, first_pass_frames - first, first_pass_s, {});
+    std::printf("\nsecond pass (fusion at the optimised poses):");
+    printTimingTable(run.pipeline().timer(), run.frameCount(), wall_s - first_pass_s, std::move(bricks_per_frame));
+  } else {
+    if (resumed_in_second_pass) std::printf("\nsecond pass, resumed:");
+    printTimingTable(run.pipeline().timer(), run.frameCount() - first, wall_s, std::move(bricks_per_frame));
+  }
   const auto t0 = std::chrono::steady_clock::now();
   const Written written = writeOutputs(false);
   if (!o.output.empty()) {
@@ -142,7 +192,7 @@ void runReconstruct(const ReconstructOptions& o) {
     std::printf("wrote %s (%zu active voxels) in %.2f s\n", o.output.c_str(), written.voxels,
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
-  printMemory(pipeline.brickCount(), pipeline.volumeBytes());
+  printMemory(run.pipeline().brickCount(), run.pipeline().volumeBytes());
 }
 
 void setupReconstructCommand(CLI::App& root) {

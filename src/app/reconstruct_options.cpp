@@ -57,6 +57,12 @@ void addReconstructOptions(CLI::App& cmd, ReconstructOptions& o) {
   cmd.add_option("--checkpoint-every", o.checkpoint_every,
                  "Every N frames write the scene, the trajectory and OUTPUT.checkpoint (to --resume from); "
                  "SIGINT/SIGTERM always finish the frame and write them");
+  cmd.add_option("--loop-closure", o.loop_closure,
+                 "on: find where the camera came back, optimise the poses and fuse again at them; off: one pass")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"on", "off"}));
+  cmd.add_option("--odometry", o.odometry,
+                 "Also write the trajectory tracking gave before the loop closure moved it (TUM format)");
   cmd.add_flag("--resume", o.resume, "Continue an interrupted run from OUTPUT.checkpoint (same dataset and options)");
 }
 
@@ -83,7 +89,8 @@ RunSettings runSettings(const ReconstructOptions& o, const FrameSource& source, 
           {"dynamic_classes", o.dynamic_classes},
           {"mask_dilation_px", o.mask_dilation_px ? std::to_string(*o.mask_dilation_px) : ""},
           {"labels_missing", o.labels_missing},
-          {"class_vote", o.class_vote + ":" + std::to_string(o.class_vote_seed)}};
+          {"class_vote", o.class_vote + ":" + std::to_string(o.class_vote_seed)},
+          {"loop_closure", o.loop_closure}};
 }
 
 void claimOutputs(const ReconstructOptions& o) {
@@ -107,6 +114,7 @@ void claimOutputs(const ReconstructOptions& o) {
   if (!o.labels_dir.empty()) outputs.input(o.labels_dir);
   if (!o.output.empty()) outputs.file(o.output, "-o");
   if (!o.trajectory.empty()) outputs.file(o.trajectory, "--trajectory");
+  if (!o.odometry.empty()) outputs.file(o.odometry, "--odometry");
   if (!o.video.empty()) outputs.file(o.video, "--video");
   if (!o.output.empty()) outputs.file(o.checkpoint(), "the checkpoint");
   if (!o.renders_dir.empty() && std::filesystem::exists(o.renders_dir) && !o.force && !o.resume)
@@ -136,6 +144,7 @@ ReconstructionOptions fusionOptions(const ReconstructOptions& o, const LabeledFr
   r.device = resolveDevice(parseDevice(o.device));
   r.poses = parsePoses(o.poses);
   r.max_frames = o.max_frames;
+  r.global.loop_closure = o.loop_closure == "on";
   r.with_classes = labeled != nullptr;
   if (labeled && !o.dynamic_classes.empty())
     r.dynamic_class_ids = labeled->classes().resolve({o.dynamic_classes}, "--dynamic-classes");

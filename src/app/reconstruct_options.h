@@ -9,13 +9,15 @@
 
 #include "app/open_source.h"
 #include "core/class_table.h"
-#include "fusion/reconstruction.h"
+#include "slam/reconstruction.h"
 #include "io/labeled_source.h"
 
 namespace vf::app {
 
 struct ReconstructOptions {
   std::string dataset, output, trajectory;
+  std::string odometry;            // the first pass's trajectory too, before the loop closure
+  std::string loop_closure = "on";
   std::optional<std::string> volume_size;  // gone: kept only to say so
   float voxel_size_m = VolumeSpec{}.voxel_size_m;
   float truncation_m = 0;  // 0 = 5 voxels

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <map>
 
 namespace vf::app {
 
@@ -13,14 +14,43 @@ double peakResidentMiB() {
   return double(usage.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
 }
 
-void printTrackingSummary(int frames, const std::vector<std::string>& lost) {
-  std::printf("tracked %d of %d frames", frames - int(lost.size()), frames);
+void printTrackingSummary(int frames, const std::vector<LostFrame>& lost, int frames_fused, int relocalisations) {
+  std::printf("tracked %d of %d frames, fused %d", frames - int(lost.size()), frames, frames_fused);
+  if (relocalisations > 0) std::printf(", relocalised %d time%s", relocalisations, relocalisations == 1 ? "" : "s");
   if (lost.empty()) {
     std::printf("\n");
     return;
   }
-  std::printf("; %zu lost (last good pose kept, not integrated):\n", lost.size());
-  for (const std::string& l : lost) std::printf("  %s\n", l.c_str());
+  // Per reason: how many, and the first few frames with the first one's details.
+  std::printf("; %zu without a pose (not fused, left out of the trajectory):\n", lost.size());
+  std::map<LostReason, std::vector<const LostFrame*>> by_reason;
+  for (const LostFrame& l : lost) by_reason[l.reason].push_back(&l);
+  for (const auto& [reason, frames_lost] : by_reason) {
+    std::printf("  %4zu  %s:", frames_lost.size(), lostReasonName(reason));
+    const size_t shown = std::min<size_t>(frames_lost.size(), 6);
+    for (size_t i = 0; i < shown; ++i) std::printf(" %s", frames_lost[i]->name.c_str());
+    if (shown < frames_lost.size()) std::printf(" ...");
+    std::printf(" (%s: %s)\n", frames_lost[0]->name.c_str(), frames_lost[0]->why.c_str());
+  }
+}
+
+void printLoopClosure(const slam::GlobalReport& r, bool enabled) {
+  if (!enabled) {
+    std::printf("loop closure: off (--loop-closure on finds where the camera came back and fuses again)\n");
+    return;
+  }
+  std::printf("loop closure: %d keyframes, %d candidate pairs checked, %d loops found, %d hold (%d rejected)", r.keyframes,
+              r.candidates, r.loops_found, r.loops_accepted, r.loops_found - r.loops_accepted);
+  if (r.moved())
+    std::printf("; frames moved up to %.2f cm (median %.2f cm), fused again at the optimised poses\n",
+                100.0 * r.largest_correction_m, 100.0 * r.median_correction_m);
+  else if (r.loops_accepted > 0 && r.largest_correction_m > 0)
+    std::printf("; they move no frame's view by more than %.2f cm: the first pass's poses and scene stand\n",
+                100.0 * r.largest_correction_m);
+  else if (r.loops_accepted > 0)
+    std::printf("; they agree with the first pass's poses within their noise: its poses and scene stand\n");
+  else
+    std::printf("; the first pass's poses and scene stand\n");
 }
 
 void printLabelSummary(const LabelStats& stats, const ClassTable& classes, int frames) {

@@ -5,12 +5,17 @@
 
 #include "core/brick_volume.h"
 #include "core/class_table.h"
+#include "fusion/checkpoint.h"
 #include "fusion/stage_timer.h"
 #include "io/labeled_source.h"
+#include "slam/global_optimisation.h"
 
 namespace vf::app {
 
-void printTrackingSummary(int frames, const std::vector<std::string>& lost);
+// "tracked N of M frames, fused K", then the frames without a pose, counted by reason.
+void printTrackingSummary(int frames, const std::vector<LostFrame>& lost, int frames_fused, int relocalisations);
+// "loop closure: N keyframes, K candidate pairs checked, F loops found, A hold; frames moved ...".
+void printLoopClosure(const slam::GlobalReport& report, bool enabled);
 void printLabelSummary(const LabelStats& stats, const ClassTable& classes, int frames);
 // Per-stage medians and the frames/s they allow, then the wall time including decoding, then how
 // many bricks a fused frame reached (median and largest; empty: not printed).

@@ -15,8 +15,9 @@ namespace vf {
 namespace {
 
 constexpr char kMagic[16] = {'V', 'D', 'B', 'F', 'U', 'S', 'E', '-', 'C', 'K', 'P', 'T', '\n', 0, 0, 0};
-// 1: dense volume with a text annotation block; 2: sparse bricks; 3: the prediction window.
-constexpr uint32_t kVersion = 3;
+// 1: dense volume with a text annotation block; 2: sparse bricks; 3: the prediction window;
+// 4: poses only for the frames that have one, lost frames with their reason, the driver's state.
+constexpr uint32_t kVersion = 4;
 
 uint64_t fnv1a(const uint8_t* p, size_t n, uint64_t h = 1469598103934665603ull) {
   for (size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
@@ -146,7 +147,16 @@ void writeCheckpoint(const std::string& path, Pipeline& pipeline, const RunProgr
     w.pose(p.T_world_cam);
   }
   w.pod<uint32_t>(uint32_t(progress.lost.size()));
-  for (const std::string& l : progress.lost) w.string(l);
+  for (const LostFrame& l : progress.lost) {
+    w.pod<int32_t>(l.index);
+    w.pod<uint8_t>(uint8_t(l.reason));
+    w.string(l.name);
+    w.string(l.why);
+  }
+  w.pod<uint64_t>(progress.session.size());
+  w.bytes(progress.session.data(), progress.session.size());
+  w.pod<uint8_t>(s.last_frame_committed ? 1 : 0);
+  w.pose(s.last_motion);
 
   const size_t n = bricks.brick_count, voxels = n * kBrickVoxels;
   w.pod<uint32_t>(uint32_t(n));
@@ -238,10 +248,24 @@ RunProgress readCheckpoint(const std::string& path, Pipeline& pipeline, const Ru
     p.timestamp = r.read<double>("timestamp");
     p.T_world_cam = readPose(r);
   }
-  const uint32_t lost = readCount(r, "lost frame", 4);
-  for (uint32_t i = 0; i < lost; ++i) progress.lost.push_back(r.readString("lost frame"));
-  if (progress.frames_done < 0 || size_t(progress.frames_done) != progress.trajectory.size() ||
-      progress.frames_done != s.frames_processed)
+  const uint32_t lost = readCount(r, "lost frame", 13);
+  for (uint32_t i = 0; i < lost; ++i) {
+    LostFrame l;
+    l.index = r.read<int32_t>("lost frame index");
+    const uint8_t reason = r.read<uint8_t>("lost frame reason");
+    if (reason > uint8_t(LostReason::Repeated)) r.fail("lost frame reason " + std::to_string(reason) + " is unknown");
+    l.reason = LostReason(reason);
+    l.name = r.readString("lost frame name");
+    l.why = r.readString("lost frame report");
+    progress.lost.push_back(std::move(l));
+  }
+  const uint64_t session_bytes = r.read<uint64_t>("session state size");
+  if (session_bytes > r.remaining()) r.fail("session state of " + std::to_string(session_bytes) + " bytes exceeds the file");
+  const uint8_t* session = r.take(session_bytes, "session state");
+  progress.session.assign(session, session + session_bytes);
+  s.last_frame_committed = r.read<uint8_t>("last frame flag") != 0;
+  s.last_motion = readPose(r);
+  if (progress.frames_done < 0 || progress.frames_done != s.frames_processed)
     throw Error("checkpoint " + path + ": frame counts and trajectory disagree");
 
   HostBrickVolume bricks;

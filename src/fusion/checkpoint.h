@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/pose.h"
+#include "fusion/lost_reason.h"
 
 namespace vf {
 
@@ -22,12 +23,21 @@ class Pipeline;
 // What must not change between a run and its resumption, as (name, value) pairs.
 using RunSettings = std::vector<std::pair<std::string, std::string>>;
 
+// A frame that got no pose, and why.
+struct LostFrame {
+  int index = 0;          // in the run's frame sequence
+  std::string name;
+  LostReason reason = LostReason::None;
+  std::string why;        // the details, for the report
+};
+
 // The reconstruction's own part of a checkpoint.
 struct RunProgress {
   RunSettings settings;
   int frames_done = 0;
-  Trajectory trajectory;            // one pose per frame done
-  std::vector<std::string> lost;    // "frame: why" for each frame tracking rejected
+  Trajectory trajectory;            // the poses of the frames done that have one
+  std::vector<LostFrame> lost;      // the frames done that have none
+  std::vector<uint8_t> session;     // the driver's own state (slam/: tracking, keyframes), opaque here
 };
 
 // Throws vf::Error naming `path` when it cannot be written (the old checkpoint then stays).

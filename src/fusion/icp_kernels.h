@@ -20,6 +20,12 @@ struct IcpKernel {
   float max_distance_m = 0.1f;
   float min_normal_cos = 0.866f;
   float huber_m = 0.02f;
+  // Axial depth noise sigma(z) = noise_sigma0_m + noise_sigma_quadratic * (z - 0.4)^2 (Nguyen,
+  // Izadi and Lovell 2012); each residual is scaled by sigma(1 m) / sigma(z) before the Huber
+  // weight, so that a far, coarsely quantised reading counts for what it measures. 0 = off.
+  float noise_sigma_quadratic = 0.f;
+  float noise_sigma0_m = 0.0012f;
+  int noise_weight_power = 2;  // weight (sigma(1 m) / sigma(z))^power: 2 = inverse variance
 
   int stride_px = 1;  // use every stride-th measured pixel in x and y
 
@@ -71,20 +77,22 @@ struct IcpKernel {
       mx[j] = mv.x, my[j] = mv.y, mz[j] = mv.z, mnx[j] = mn.x, mny[j] = mn.y, mnz[j] = mn.z;
     }
     const float max_d2 = max_distance_m * max_distance_m;
-    float J[6][L], r[L], weight[L];
+    float J[6][L], r[L], weight[L], robust[L];
     for (int j = 0; j < L; ++j) {
       const float dx = wx[j] - mx[j], dy = wy[j] - my[j], dz = wz[j] - mz[j];
       const int paired = found[j] & !((mnx[j] == 0.f) & (mny[j] == 0.f) & (mnz[j] == 0.f)) &
                          !(dx * dx + dy * dy + dz * dz > max_d2) &
                          !(wnx[j] * mnx[j] + wny[j] * mny[j] + wnz[j] * mnz[j] < min_normal_cos);
+      // Residual and Jacobian in units of the reading's own noise, relative to a reading at 1 m.
+      const float zq = vz[j] - 0.4f;
+      const float scale = noise_sigma_quadratic > 0.f
+                              ? (noise_sigma0_m + noise_sigma_quadratic * 0.36f) /
+                                    (noise_sigma0_m + noise_sigma_quadratic * zq * zq)
+                              : 1.f;
       r[j] = paired ? mnx[j] * dx + mny[j] * dy + mnz[j] * dz : 0.f;
-      // Every pair weighs the same whatever its depth. Down-weighting far pairs by a Kinect noise
-      // model (sigma = 1.2 mm + 1.9 mm (z - 0.4)^2, as 1/sigma or 1/sigma^2 relative to 1 m)
-      // tracked worse on every sequence tried (2026-12-04, fr1/xyz 0.976 -> 0.986 / 0.994 cm,
-      // teddy 0.309 -> 0.37, the kitchen 0.87 -> 1.04 / 1.07): the filtered depth is already
-      // smoothed, and far points carry the rotation.
-      const float abs_r = fabsf(r[j]);
-      weight[j] = paired ? (abs_r <= huber_m ? 1.f : huber_m / maxFloat(abs_r, huber_m)) : 0.f;
+      const float abs_r = scale * fabsf(r[j]);
+      robust[j] = paired ? (abs_r <= huber_m ? 1.f : huber_m / maxFloat(abs_r, huber_m)) : 0.f;
+      weight[j] = robust[j] * (noise_weight_power == 2 ? scale * scale : scale);
       // d r / d xi for xi = (omega, t) applied on the left: [v x n, n]; zero where unpaired, so
       // that the products stay finite.
       J[0][j] = paired ? wy[j] * mnz[j] - wz[j] * mny[j] : 0.f;
@@ -97,6 +105,8 @@ struct IcpKernel {
       row[normal_row::kMeasured][j] = measured[j] ? 1.f : 0.f;
     }
     packNormalRows<L>(row, J, r, weight);
+    // The statistics stay in metres, whatever the noise scaling.
+    for (int j = 0; j < L; ++j) row[normal_row::kSquaredError][j] = robust[j] * r[j] * r[j];
     return true;
   }
 };

@@ -47,6 +47,17 @@ void IcpParams::validate() const {
   require(max_rmse_m > 0, "IcpParams.max_rmse_m", max_rmse_m, "must be > 0");
   require(max_translation_m > 0, "IcpParams.max_translation_m", max_translation_m, "must be > 0");
   require(max_rotation_deg > 0, "IcpParams.max_rotation_deg", max_rotation_deg, "must be > 0");
+  require(max_jump_m > 0, "IcpParams.max_jump_m", max_jump_m, "must be > 0");
+  require(max_jump_deg > 0, "IcpParams.max_jump_deg", max_jump_deg, "must be > 0");
+  require(relocalise_min_inlier_fraction >= 0 && relocalise_min_inlier_fraction < 1,
+          "IcpParams.relocalise_min_inlier_fraction", relocalise_min_inlier_fraction, "must be in [0, 1)");
+  require(relocalise_max_rmse_m > 0, "IcpParams.relocalise_max_rmse_m", relocalise_max_rmse_m, "must be > 0");
+  require(depth_noise_quadratic >= 0 && std::isfinite(depth_noise_quadratic), "IcpParams.depth_noise_quadratic",
+          depth_noise_quadratic, "must be >= 0");
+  require(depth_noise_power == 1 || depth_noise_power == 2, "IcpParams.depth_noise_power", depth_noise_power,
+          "must be 1 or 2");
+  require(degenerate_share >= 0 && degenerate_share < 1, "IcpParams.degenerate_share", degenerate_share,
+          "must be in [0, 1)");
 }
 
 void IntegrationParams::validate() const {

@@ -254,41 +254,68 @@ FrameResult Pipeline::processFrame(const RgbdFrame& frame, PoseSource pose_sourc
   const std::optional<Pose>& given = frame.T_world_cam_given;
   PipelineState& s = state_;
   FrameResult result;
-  result.T_world_cam = s.T_world_cam;
-  if (s.frames_processed == 0) {
-    s.T_world_cam = given && pose_source != PoseSource::Icp ? *given : Pose::Identity();
-    result.T_world_cam = s.T_world_cam;
-  } else if (pose_source == PoseSource::Given) {
-    s.T_world_cam = *given;
-    result.T_world_cam = s.T_world_cam;
+  if (s.frames_processed == 0 || pose_source == PoseSource::Given) {
+    const Pose T = given && pose_source != PoseSource::Icp ? *given : Pose::Identity();
+    commit(s.frames_processed == 0 ? T : *given, true, result);
   } else {
-    Pose guess = s.T_world_cam;
+    Pose guess = params_.icp.constant_velocity ? s.T_world_cam * s.last_motion : s.T_world_cam;
     if (pose_source == PoseSource::GivenIcp && s.last_given_pose)
       guess = s.T_world_cam * (s.last_given_pose->inverse() * *given);
-    if (s.has_prediction) {
-      ScopedStage stage(timer_, "track");
-      result = track(guess);
+    result = track(guess, TrackingCheck{s.T_world_cam, false});
+    if (result.tracked) {
+      commit(result.T_world_cam, true, result);
     } else {
-      result.tracked = false;
-      result.lost_reason = "no model prediction yet";
-    }
-    if (result.tracked) s.T_world_cam = result.T_world_cam;
-    else {
-      ++s.frames_lost;
       result.T_world_cam = s.T_world_cam;
+      skip();
+      // A lost frame was measured from somewhere else: the next one tracks against a prediction
+      // from the last good pose that no frame's depth windowed.
+      predictForTracking(s.T_world_cam);
     }
   }
   if (given) s.last_given_pose = given;
-  if (result.tracked) {
+  return result;
+}
+
+void Pipeline::predictForTracking(const Pose& T_world_model) {
+  if (state_.has_prediction && !state_.prediction_windowed && state_.T_world_model.matrix() == T_world_model.matrix())
+    return;
+  ScopedStage stage(timer_, "raycast");
+  raycastForTracking(T_world_model, false);
+}
+
+void Pipeline::commit(const Pose& T_world_cam, bool fuse, FrameResult& result) {
+  PipelineState& s = state_;
+  s.last_motion = s.last_frame_committed ? s.T_world_cam.inverse() * T_world_cam : Pose::Identity();
+  s.last_frame_committed = true;
+  s.T_world_cam = T_world_cam;
+  result.T_world_cam = T_world_cam;
+  if (fuse) {
     result.volume_full = !integrate(result.bricks_fused);
     result.integrated = true;
   }
   {
     ScopedStage stage(timer_, "raycast");
-    raycastForTracking(result.integrated);
+    raycastForTracking(T_world_cam, result.integrated);
   }
   ++s.frames_processed;
-  return result;
+}
+
+void Pipeline::fuseAt(const Pose& T_world_cam, FrameResult& result) {
+  PipelineState& s = state_;
+  s.T_world_cam = T_world_cam;
+  s.last_frame_committed = false;
+  s.has_prediction = false;
+  result.T_world_cam = T_world_cam;
+  result.volume_full = !integrate(result.bricks_fused);
+  result.integrated = true;
+  ++s.frames_processed;
+}
+
+void Pipeline::skip() {
+  ++state_.frames_processed;
+  ++state_.frames_lost;
+  state_.last_frame_committed = false;
+  state_.last_motion = Pose::Identity();
 }
 
 // The next frame's ICP pairs its points with model points within max_distance_m of them, and
@@ -303,10 +330,10 @@ FrameResult Pipeline::processFrame(const RgbdFrame& frame, PoseSource pose_sourc
 // RaycastKernel::kWindowHoleRadiusPx of a measurement march, in its window: raycast 21.7 ->
 // 14.6 ms, ATE unchanged on every sequence. A lost frame was measured from somewhere else: its
 // prediction is not windowed.
-void Pipeline::raycastForTracking(bool windowed) {
-  raycast(state_.T_world_cam, params_.icp.photometric_weight > 0.f, params_.raycast.prediction_level, windowed);
+void Pipeline::raycastForTracking(const Pose& T_world_model, bool windowed) {
+  raycast(T_world_model, params_.icp.photometric_weight > 0.f, params_.raycast.prediction_level, windowed);
   model_has_intensity_ = params_.icp.photometric_weight > 0.f;
-  state_.T_world_model = state_.T_world_cam;
+  state_.T_world_model = T_world_model;
   state_.has_prediction = true;
   state_.prediction_windowed = windowed;
 }
@@ -355,10 +382,7 @@ void Pipeline::restore(const PipelineState& state, const HostBrickVolume& bricks
   state_ = state;
   // The prediction the next frame tracks against, as the last processFrame() left it.
   if (windowed) depth.buffer.upload(window.data(), size_t(depth.width) * depth.height);
-  const Pose current = state.T_world_cam;
-  state_.T_world_cam = state.T_world_model;
-  if (state.has_prediction) raycastForTracking(windowed);
-  state_.T_world_cam = current;
+  if (state.has_prediction) raycastForTracking(state.T_world_model, windowed);
 }
 
 }  // namespace vf

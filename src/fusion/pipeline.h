@@ -10,6 +10,7 @@
 #include "core/brick_volume.h"
 #include "core/frame.h"
 #include "fusion/device.h"
+#include "fusion/lost_reason.h"
 #include "fusion/params.h"
 #include "fusion/stage_timer.h"
 
@@ -24,8 +25,10 @@ enum class PoseSource {
   GivenIcp,  // start ICP from the recorded relative motion and refine; the recording's world
 };
 
+
 struct FrameResult {
   bool tracked = true;      // false: pose rejected, last good pose kept, frame not integrated
+  LostReason reason = LostReason::None;
   bool integrated = false;
   bool volume_full = false; // memory ran out: some of this frame's bricks could not be allocated
   int bricks_fused = 0;     // bricks the frame's depth reached (integrate and raycast cost follows it)
@@ -34,6 +37,18 @@ struct FrameResult {
   float icp_inlier_fraction = 0.f;
   float icp_rmse_m = 0.f;
   std::string lost_reason;  // why tracking was rejected
+  // Directions of the pose the view left unconstrained (one wall: three), held by the motion
+  // prior; and how far the solution moved from the predicted pose.
+  int degenerate_directions = 0;
+  float jump_m = 0.f, jump_deg = 0.f;
+};
+
+// What a track() result is judged against: the pose the camera was at (the one-frame motion
+// limits apply from it) and whether the predicted pose was a motion prediction (the jump limit
+// applies) or a relocalisation candidate (neither applies; stricter agreement does).
+struct TrackingCheck {
+  Pose T_world_previous = Pose::Identity();
+  bool relocalising = false;
 };
 
 // Host copies of the current model prediction (level 0), for renders.
@@ -55,6 +70,10 @@ struct PipelineState {
   // Pipeline::raycastForTracking); a checkpoint then saves that depth, predictionWindow().
   bool prediction_windowed = false;
   std::optional<Pose> last_given_pose;    // GivenIcp: the recorded pose of the previous frame
+  // The camera's motion from the frame before the last tracked one to it (camera frame), for the
+  // constant-velocity prediction; identity after a lost frame.
+  Pose last_motion = Pose::Identity();
+  bool last_frame_committed = false;  // the previous frame ended with a pose (commit, not skip)
 };
 
 class Pipeline {
@@ -67,6 +86,24 @@ class Pipeline {
 
   // Fuses one frame. pose_source decides how its pose is found (see PoseSource).
   FrameResult processFrame(const RgbdFrame& frame, PoseSource pose_source = PoseSource::Icp);
+
+  // The same, step by step, for a driver that decides itself which pose to trust and whether to
+  // fuse (slam/: relocalisation, probation). A frame is measure()d, then tracked as often as the
+  // driver likes, each time from any guess against a prediction from any pose, and ended once,
+  // by commit() at a pose or by skip() without one.
+  void measure(const RgbdFrame& frame);
+  // The tracking prediction raycast from T_world_model (no window) unless it is there already.
+  void predictForTracking(const Pose& T_world_model);
+  bool hasPrediction() const { return state_.has_prediction; }
+  FrameResult track(const Pose& guess, const TrackingCheck& check);
+  // Ends the frame at T_world_cam: fuses it when `fuse` (result gets bricks_fused, volume_full,
+  // integrated), then raycasts the next prediction from there.
+  void commit(const Pose& T_world_cam, bool fuse, FrameResult& result);
+  // Ends a frame that has no pose: counted lost; the prediction stays where it was.
+  void skip();
+  // Ends the measured frame by fusing it at a known pose, with no prediction for a next frame to
+  // track against (a second pass at optimised poses).
+  void fuseAt(const Pose& T_world_cam, FrameResult& result);
 
   // Classes whose pixels are kept out of TSDF integration and ICP (still voted), by class id.
   void setDynamicClasses(const std::vector<int>& class_ids);
@@ -107,11 +144,11 @@ class Pipeline {
  private:
   struct Buffers;
   struct IcpSolution;
-  void measure(const RgbdFrame& frame);
   // Tracking (fusion/tracking.cpp): the ICP solve, then the decision whether to trust it.
-  FrameResult track(const Pose& initial_guess);
   IcpSolution solveIcp(const Pose& initial_guess);
-  FrameResult judgeTracking(const IcpSolution& solution) const;
+  // How the measured points move under a camera-frame pose increment (fusion/tracking.cpp).
+  Eigen::Matrix<double, 6, 6> measuredPointMetric() const;
+  FrameResult judgeTracking(const IcpSolution& solution, const Pose& guess, const TrackingCheck& check) const;
   // False when the pool was full for some of the frame's bricks; bricks_fused: how many it reached.
   bool integrate(int& bricks_fused);
   // The depth integration marks and fuses: filtered or raw (IntegrationParams::
@@ -119,10 +156,10 @@ class Pipeline {
   ImageView<const float> fusedDepth() const;
   // window: look for surfaces only near depth[level] (RaycastKernel::window_depth).
   void raycast(const Pose& T_world_cam, bool with_color, int level, bool window = false);
-  // The model prediction tracking uses: a raycast from the current pose, which becomes
+  // The model prediction tracking uses: a raycast from T_world_model, which becomes
   // state_.T_world_model. windowed: the current frame was fused from this pose, and its depth
   // bounds the rays (see the definition).
-  void raycastForTracking(bool windowed);
+  void raycastForTracking(const Pose& T_world_model, bool windowed);
   bool photometricActive() const;
 
   PipelineParams params_;

@@ -1,10 +1,12 @@
 // Pipeline::solveIcp and judgeTracking: multi-scale frame-to-model ICP (KinectFusion section
 // 3.5) with an optional photometric term, then the decision whether to trust the result.
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 #include "fusion/icp_kernels.h"
 #include "fusion/normal_equations.h"
@@ -18,15 +20,96 @@ namespace {
 
 using RowSums = std::array<double, normal_row::kSize>;
 
-// Solves the summed normal equations for the increment xi = (omega, v); false when singular.
-bool solveIncrement(const RowSums& sums, Eigen::Matrix<double, 6, 1>& xi) {
+// The normal equations of one Gauss-Newton step, in the camera frame: an increment eta = (omega,
+// v) applied on the right of T (T <- T exp(eta)) moves world points as the left increment
+// xi = M eta with M = [[R, 0], [t^ R, R]], so the left-increment system (A, g) becomes
+// (M^T A M, M^T g) there.
+struct CameraSystem {
   Eigen::Matrix<double, 6, 6> A;
-  Eigen::Matrix<double, 6, 1> rhs;
+  Eigen::Matrix<double, 6, 1> g;
+  Eigen::Matrix<double, 6, 6> M;  // camera increment -> world (left) increment
+};
+
+CameraSystem cameraSystem(const RowSums& sums, const Pose& T) {
+  Eigen::Matrix<double, 6, 6> A;
+  Eigen::Matrix<double, 6, 1> g;
   int k = normal_row::kHessian;
   for (int r = 0; r < 6; ++r)
     for (int c = r; c < 6; ++c) A(r, c) = A(c, r) = sums[size_t(k++)];
-  for (int r = 0; r < 6; ++r) rhs(r) = -sums[size_t(normal_row::kGradient + r)];
-  xi = A.ldlt().solve(rhs);
+  for (int r = 0; r < 6; ++r) g(r) = sums[size_t(normal_row::kGradient + r)];
+  const Eigen::Matrix3d R = T.linear();
+  const Eigen::Vector3d t = T.translation();
+  Eigen::Matrix3d t_hat;
+  t_hat << 0, -t.z(), t.y(), t.z(), 0, -t.x(), -t.y(), t.x(), 0;
+  CameraSystem s;
+  s.M.setZero();
+  s.M.topLeftCorner<3, 3>() = R;
+  s.M.bottomLeftCorner<3, 3>() = t_hat * R;
+  s.M.bottomRightCorner<3, 3>() = R;
+  s.A = s.M.transpose() * A * s.M;
+  s.g = s.M.transpose() * g;
+  return s;
+}
+
+// The camera-frame deviation of T from the predicted pose: (rotation vector, translation).
+Eigen::Matrix<double, 6, 1> deviation(const Pose& T_predicted, const Pose& T) {
+  const Pose D = T_predicted.inverse() * T;
+  const Eigen::AngleAxisd aa(D.linear());
+  Eigen::Matrix<double, 6, 1> eta;
+  eta.head<3>() = aa.angle() * aa.axis();
+  eta.tail<3>() = D.translation();
+  return eta;
+}
+
+// How the measured points (camera frame) move under an increment eta = (omega, v): each moves
+// by d = v - [p]x omega, so the mean of |d|^2 over the points is eta^T G eta with
+// G = mean([[|p|^2 I - p p^T, [p]x], [-[p]x, I]]). G is the metric in which "how much does the
+// data constrain a direction" is asked: per unit of point motion, whatever the units of eta.
+Eigen::Matrix<double, 6, 6> pointMotionMetric(const Eigen::Vector3d& mean, const Eigen::Matrix3d& second) {
+  Eigen::Matrix3d mean_hat;
+  mean_hat << 0, -mean.z(), mean.y(), mean.z(), 0, -mean.x(), -mean.y(), mean.x(), 0;
+  Eigen::Matrix<double, 6, 6> G;
+  G.topLeftCorner<3, 3>() = second.trace() * Eigen::Matrix3d::Identity() - second;
+  G.topRightCorner<3, 3>() = mean_hat;
+  G.bottomLeftCorner<3, 3>() = -mean_hat;
+  G.bottomRightCorner<3, 3>() = Eigen::Matrix3d::Identity();
+  // A hair of regularisation: points on one line would leave the rotation about it unmeasured.
+  G.diagonal().array() += 1e-9;
+  return G;
+}
+
+// Solves for the world-frame increment xi; false when singular. `geometric_weight` is the sum of
+// the point-to-plane weights (the system's translation trace): per unit of point motion a
+// direction gains at most that much from the data, when every normal points along it.
+// Directions the data constrain less than `degenerate_share` of that (generalised eigenvectors
+// of the system against the point-motion metric G) are held at the predicted pose: a view of one
+// wall says nothing about sliding along it or turning about its normal, and a solve would move
+// the camera there on noise alone. Well-constrained directions are left to the data, so that the
+// prediction (no motion) cannot bias them. degenerate: how many directions were held.
+bool solveIncrement(const RowSums& sums, double geometric_weight, const Eigen::Matrix<double, 6, 6>& G,
+                    const Pose& T, const Pose& T_predicted, double degenerate_share,
+                    Eigen::Matrix<double, 6, 1>& xi, int& degenerate) {
+  CameraSystem s = cameraSystem(sums, T);
+  Eigen::Matrix<double, 6, 1> rhs = -s.g;
+  degenerate = 0;
+  if (degenerate_share > 0 && geometric_weight > 0) {
+    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eigen(s.A, G);
+    Eigen::Matrix<double, 6, 6> hold = Eigen::Matrix<double, 6, 6>::Zero();
+    for (int i = 0; i < 6; ++i)
+      if (eigen.eigenvalues()(i) < degenerate_share * geometric_weight) {
+        const Eigen::Matrix<double, 6, 1> Gu = G * eigen.eigenvectors().col(i);
+        hold += Gu * Gu.transpose();
+        ++degenerate;
+      }
+    if (degenerate > 0) {
+      // As strong as the data would be if every point constrained the held directions fully.
+      hold *= geometric_weight;
+      s.A += hold;
+      rhs -= hold * deviation(T_predicted, T);
+    }
+  }
+  const Eigen::Matrix<double, 6, 1> eta = s.A.ldlt().solve(rhs);
+  xi = s.M * eta;
   return xi.allFinite();
 }
 
@@ -50,7 +133,33 @@ struct Pipeline::IcpSolution {
   // Geometric sums at the finest level, for the tracking-loss statistics. They describe the pose
   // before the last finest-level iteration's (converged, tiny) update, which saves a pass.
   RowSums finest_sums{};
+  // Directions of the last solve whose constraint was weaker than the motion prior's.
+  int degenerate_directions = 0;
 };
+
+Eigen::Matrix<double, 6, 6> Pipeline::measuredPointMetric() const {
+  // The coarsest level's points are plenty for three moments, and cheap to bring to the host.
+  const ImageBuffer<Vec3f>& vertex = buffers_->vertex[kPyramidLevels - 1];
+  std::vector<Vec3f> points(size_t(vertex.width) * size_t(vertex.height));
+  vertex.buffer.download(points.data(), points.size());
+  const IcpParams& p = params_.icp;
+  double weight = 0;
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
+  for (const Vec3f& v : points) {
+    if (!(v.z > 0.f)) continue;
+    // The same noise weighting as the point-to-plane rows (IcpKernel), relative to 1 m.
+    const double zq = double(v.z) - 0.4;
+    const double scale = (0.0012 + p.depth_noise_quadratic * 0.36) / (0.0012 + p.depth_noise_quadratic * zq * zq);
+    const double w = p.depth_noise_quadratic > 0 ? (p.depth_noise_power == 2 ? scale * scale : scale) : 1.0;
+    const Eigen::Vector3d q(v.x, v.y, v.z);
+    weight += w;
+    sum += w * q;
+    second += w * q * q.transpose();
+  }
+  if (weight <= 0) return Eigen::Matrix<double, 6, 6>::Identity();
+  return pointMotionMetric(sum / weight, second / weight);
+}
 
 Pipeline::IcpSolution Pipeline::solveIcp(const Pose& initial_guess) {
   Buffers& b = *buffers_;
@@ -73,9 +182,12 @@ Pipeline::IcpSolution Pipeline::solveIcp(const Pose& initial_guess) {
     icp.max_distance_m = p.max_distance_m;
     icp.min_normal_cos = std::cos(p.max_normal_angle_deg * float(M_PI) / 180.f);
     icp.huber_m = p.huber_m;
+    icp.noise_sigma_quadratic = p.depth_noise_quadratic;
+    icp.noise_weight_power = p.depth_noise_power;
     icp.stride_px = p.stride_px[size_t(l)];
     return icp;
   };
+  const Eigen::Matrix<double, 6, 6> G = measuredPointMetric();
   bool have_finest_sums = false;
   for (int l = kPyramidLevels - 1; l >= 0; --l) {
     IcpKernel icp = icpAtLevel(l);
@@ -101,6 +213,9 @@ Pipeline::IcpSolution Pipeline::solveIcp(const Pose& initial_guess) {
     for (int it = 0; it < p.iterations[size_t(l)]; ++it) {
       icp.T_world_cam = toRigid3f(T);
       RowSums sums = parallelReduce<normal_row::kSize>(device_, icp.count(), icp);
+      // The point-to-plane weights' sum: the trace of the translation block (unit normals).
+      const double geometric_weight = sums[normal_row::kHessian + 15] + sums[normal_row::kHessian + 18] +
+                                      sums[normal_row::kHessian + 20];
       if (l == 0) {
         solution.finest_sums = sums;
         have_finest_sums = true;
@@ -113,7 +228,9 @@ Pipeline::IcpSolution Pipeline::solveIcp(const Pose& initial_guess) {
         for (int k = normal_row::kHessian; k < normal_row::kSquaredError; ++k) sums[size_t(k)] += photometric[size_t(k)];
       }
       Eigen::Matrix<double, 6, 1> xi;
-      if (!solveIncrement(sums, xi)) break;
+      int degenerate = 0;
+      if (!solveIncrement(sums, geometric_weight, G, T, initial_guess, p.degenerate_share, xi, degenerate)) break;
+      if (l == 0) solution.degenerate_directions = degenerate;
       T = twistToPose(xi) * T;
       if (xi.head<3>().norm() < converged && xi.tail<3>().norm() < converged) break;
     }
@@ -126,9 +243,38 @@ Pipeline::IcpSolution Pipeline::solveIcp(const Pose& initial_guess) {
   return solution;
 }
 
-FrameResult Pipeline::track(const Pose& initial_guess) { return judgeTracking(solveIcp(initial_guess)); }
+FrameResult Pipeline::track(const Pose& guess, const TrackingCheck& check) {
+  if (!state_.has_prediction) {
+    FrameResult result;
+    result.tracked = false;
+    result.reason = LostReason::NoPrediction;
+    result.lost_reason = "no model prediction yet";
+    result.T_world_cam = guess;
+    return result;
+  }
+  ScopedStage stage(timer_, "track");
+  return judgeTracking(solveIcp(guess), guess, check);
+}
 
-FrameResult Pipeline::judgeTracking(const IcpSolution& solution) const {
+const char* lostReasonName(LostReason reason) {
+  switch (reason) {
+    case LostReason::None: return "tracked";
+    case LostReason::NoDepth: return "no valid depth";
+    case LostReason::NoPrediction: return "nothing to track against yet";
+    case LostReason::Diverged: return "ICP diverged";
+    case LostReason::FewInliers: return "too few pixels matched the model";
+    case LostReason::HighResidual: return "residual too high";
+    case LostReason::TooFast: return "moved or turned too far in one frame";
+    case LostReason::Jump: return "jumped away from the predicted motion";
+    case LostReason::Relocalising: return "lost, relocalising";
+    case LostReason::Probation: return "relocalised, but the pose did not hold";
+    case LostReason::OutOfReach: return "pose beyond the volume's reach";
+    case LostReason::Repeated: return "repeated depth (the frame before, again)";
+  }
+  return "?";
+}
+
+FrameResult Pipeline::judgeTracking(const IcpSolution& solution, const Pose& guess, const TrackingCheck& check) const {
   const IcpParams& p = params_.icp;
   const RowSums& sums = solution.finest_sums;
   const Pose& T = solution.T_world_cam;
@@ -137,24 +283,46 @@ FrameResult Pipeline::judgeTracking(const IcpSolution& solution) const {
   result.icp_inliers = int(inliers);
   result.icp_rmse_m = inliers > 0 ? float(std::sqrt(sums[normal_row::kSquaredError] / inliers)) : 0.f;
   result.T_world_cam = T;
+  result.degenerate_directions = solution.degenerate_directions;
   // The fraction is relative to the measured pixels that have a normal (what ICP can use).
   const int measured = int(sums[normal_row::kMeasured]);
   result.icp_inlier_fraction = measured > 0 ? float(result.icp_inliers) / float(measured) : 0.f;
-  const Pose motion = state_.T_world_cam.inverse() * T;
+  const Pose motion = check.T_world_previous.inverse() * T;
+  const Pose jump = guess.inverse() * T;
+  result.jump_m = float(jump.translation().norm());
+  result.jump_deg = float(rotationDeg(jump));
+  const float min_fraction = check.relocalising ? p.relocalise_min_inlier_fraction : p.min_inlier_fraction;
+  const float max_rmse = check.relocalising ? p.relocalise_max_rmse_m : p.max_rmse_m;
   char why[160] = "";
-  if (measured == 0) std::snprintf(why, sizeof(why), "no valid depth");
-  else if (!T.matrix().allFinite()) std::snprintf(why, sizeof(why), "ICP diverged");
-  else if (result.icp_inlier_fraction < p.min_inlier_fraction)
+  LostReason reason = LostReason::None;
+  auto reject = [&](LostReason r) { reason = r; };
+  if (measured == 0) {
+    reject(LostReason::NoDepth);
+    std::snprintf(why, sizeof(why), "no valid depth");
+  } else if (!T.matrix().allFinite()) {
+    reject(LostReason::Diverged);
+    std::snprintf(why, sizeof(why), "ICP diverged");
+  } else if (result.icp_inlier_fraction < min_fraction) {
+    reject(LostReason::FewInliers);
     std::snprintf(why, sizeof(why), "only %.0f%% of pixels matched the model (min %.0f%%)",
-                  100.f * result.icp_inlier_fraction, 100.f * p.min_inlier_fraction);
-  else if (result.icp_rmse_m > p.max_rmse_m)
-    std::snprintf(why, sizeof(why), "residual %.1f mm above %.1f mm", 1e3f * result.icp_rmse_m, 1e3f * p.max_rmse_m);
-  else if (motion.translation().norm() > p.max_translation_m)
+                  100.f * result.icp_inlier_fraction, 100.f * min_fraction);
+  } else if (result.icp_rmse_m > max_rmse) {
+    reject(LostReason::HighResidual);
+    std::snprintf(why, sizeof(why), "residual %.1f mm above %.1f mm", 1e3f * result.icp_rmse_m, 1e3f * max_rmse);
+  } else if (!check.relocalising && motion.translation().norm() > p.max_translation_m) {
+    reject(LostReason::TooFast);
     std::snprintf(why, sizeof(why), "moved %.2f m in one frame", motion.translation().norm());
-  else if (rotationDeg(motion) > p.max_rotation_deg)
+  } else if (!check.relocalising && rotationDeg(motion) > p.max_rotation_deg) {
+    reject(LostReason::TooFast);
     std::snprintf(why, sizeof(why), "turned %.1f deg in one frame", rotationDeg(motion));
+  } else if (!check.relocalising && (result.jump_m > p.max_jump_m || result.jump_deg > p.max_jump_deg)) {
+    reject(LostReason::Jump);
+    std::snprintf(why, sizeof(why), "jumped %.1f cm and %.1f deg away from the predicted pose", 100.f * result.jump_m,
+                  result.jump_deg);
+  }
+  result.reason = reason;
   result.lost_reason = why;
-  result.tracked = result.lost_reason.empty();
+  result.tracked = reason == LostReason::None;
   return result;
 }
 

@@ -41,7 +41,7 @@ FusedRun reconstructAndEvaluate(const std::string& sequence) {
   const test::CliRun fused = test::runVdbfuse({"reconstruct", dataset, "-o", dir + "/scene.vdb", "-q"}, 0, 1800);
   EXPECT_EQ(fused.status, 0) << fused.output;
   const test::CliRun evaluated =
-      test::runVdbfuse({"evaluate", "--trajectory", dir + "/scene.txt", "--groundtruth", dataset + "/groundtruth.txt"});
+      test::runVdbfuse({"evaluate", "--trajectory", dir + "/scene.txt", "--groundtruth", dataset});
   EXPECT_EQ(evaluated.status, 0) << evaluated.output;
   FusedRun run;
   run.ate_cm = ateRmseCm(evaluated.output);
@@ -69,6 +69,25 @@ TEST(Accuracy, TumFr3TeddyHead60AteAtMostHalfACentimetre) {
   EXPECT_LE(run.ate_cm, 0.5);
   EXPECT_GT(run.median_bricks_fused, 0) << "reconstruct no longer reports the bricks fused per frame";
   EXPECT_LE(run.median_bricks_fused, 4900);
+}
+
+// 7-Scenes: the dataset's poses are KinectFusion's own, with a few glitches of their own (frame 121
+// -> 122 of redkitchen jumps 3.6 cm and 1.4 degrees where the depth moved 0.6 cm; the depth of the
+// two frames lines up to 2.3 mm under the estimate's motion, 7.4 mm under the dataset's), so the
+// bounds sit above what any tracker that follows the depth can reach. The 500 frames walk round
+// the kitchen: drift, not noise, is what they measure.
+TEST(Accuracy, SevenScenesKitchenHead100AteAtMostOneCentimetre) {
+  VF_REQUIRE_DATA(dataset, "7scenes_redkitchen_head100");
+  const FusedRun run = reconstructAndEvaluate("7scenes_redkitchen_head100");
+  EXPECT_GT(run.ate_cm, 0);
+  EXPECT_LE(run.ate_cm, 1.0);
+}
+
+TEST(Accuracy, SevenScenesKitchenHead500AteAtMostThreeCentimetres) {
+  VF_REQUIRE_DATA(dataset, "7scenes_redkitchen_head500");
+  const FusedRun run = reconstructAndEvaluate("7scenes_redkitchen_head500");
+  EXPECT_GT(run.ate_cm, 0);
+  EXPECT_LE(run.ate_cm, 3.0);
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-// Checkpoint and resume (fusion/checkpoint.h, fusion/reconstruction.h) on real data, CPU backend:
+// Checkpoint and resume (fusion/checkpoint.h, slam/reconstruction.h) on real data, CPU backend:
 // a run stopped after frame k and resumed from its checkpoint ends with the same volume, voxel
 // for voxel, and the same poses, bit for bit, as a run that never stopped. Runs must also be
 // deterministic.
@@ -11,7 +11,7 @@
 
 #include "core/error.h"
 #include "fusion/checkpoint.h"
-#include "fusion/reconstruction.h"
+#include "slam/reconstruction.h"
 #include "io/tum_dataset.h"
 #include "reliability/volume_compare.h"
 #include "test_data.h"
@@ -65,18 +65,28 @@ TEST_F(ResumeTest, ResumedRunEqualsUninterruptedRun) {
       RunProgress progress;
       progress.settings = {{"dataset", "teddy"}, {"note", "line 1\nline 2"}};
       progress.frames_done = stop;
-      for (int i = 0; i < stop; ++i) progress.trajectory.push_back({0.5 * i, poses[size_t(i)]});
-      progress.lost = {"frame 3: a reason"};
+      // Frame 3 is reported lost (as if tracking had rejected it): it has no pose.
+      for (int i = 0; i < stop; ++i)
+        if (i != 3) progress.trajectory.push_back({0.5 * i, poses[size_t(i)]});
+      if (stop > 3) progress.lost = {LostFrame{3, "frame-3", LostReason::FewInliers, "a reason"}};
+      progress.session = {1, 2, 3};
       writeCheckpoint(path, first, progress);
     }
     Pipeline resumed(test::teddyParams(), data_->depthIntrinsics(), Device::Cpu);
     const RunProgress saved = readCheckpoint(path, resumed, {{"dataset", "teddy"}});
     EXPECT_EQ(saved.settings.size(), 2u);
     EXPECT_EQ(saved.settings[1].second, "line 1\nline 2");
-    ASSERT_EQ(saved.trajectory.size(), size_t(stop));
+    ASSERT_EQ(saved.trajectory.size(), size_t(stop > 3 ? stop - 1 : stop));
     EXPECT_TRUE(test::sameBits(saved.trajectory.back().T_world_cam, poses.back()));
     EXPECT_EQ(saved.trajectory.back().timestamp, 0.5 * (stop - 1));
-    EXPECT_EQ(saved.lost, std::vector<std::string>{"frame 3: a reason"});
+    ASSERT_EQ(saved.lost.size(), stop > 3 ? 1u : 0u);
+    if (stop > 3) {
+      EXPECT_EQ(saved.lost[0].index, 3);
+      EXPECT_EQ(saved.lost[0].name, "frame-3");
+      EXPECT_EQ(saved.lost[0].reason, LostReason::FewInliers);
+      EXPECT_EQ(saved.lost[0].why, "a reason");
+    }
+    EXPECT_EQ(saved.session, (std::vector<uint8_t>{1, 2, 3}));
     EXPECT_EQ(resumed.framesProcessed(), stop);
     const std::vector<Pose> rest = fuse(resumed, *data_, stop, kFrames);
     poses.insert(poses.end(), rest.begin(), rest.end());
@@ -121,6 +131,42 @@ TEST_F(ResumeTest, AReconstructionStoppedAndResumedEndsAsOneThatRanThrough) {
   Reconstruction other(*data_, options);
   EXPECT_NE(test::errorOf([&] { other.resume(path); }).find("dataset = teddy, this run has dataset = another"),
             std::string::npos);
+}
+
+// A run stopped in its second pass (fusion again at the optimised poses) and resumed ends as one
+// that ran through, voxel for voxel and pose for pose. The loop closure is told to act on what
+// it finds in the teddy's 40 frames (its defaults leave such agreeing loops alone).
+TEST_F(ResumeTest, ARunStoppedInItsSecondPassResumesToTheSameScene) {
+  ReconstructionOptions options;
+  options.params = test::teddyParams();
+  options.device = Device::Cpu;
+  options.max_frames = 40;
+  options.settings = {{"dataset", "teddy"}};
+  options.global.loops.min_separation_frames = 15;
+  options.global.loops_agree_chi = 0;
+  options.global.min_correction_m = 0;
+  Reconstruction through(*data_, options);
+  ASSERT_EQ(through.run({}), Reconstruction::Outcome::Finished);
+  ASSERT_EQ(through.pass(), 2) << "no loop moved the poses: the second pass was not reached";
+  ASSERT_GT(through.globalReport().loops_accepted, 0);
+  const std::string path = dir_ + "/second_pass.checkpoint";
+  {
+    Reconstruction stopped(*data_, options);
+    Reconstruction::Callbacks callbacks;
+    callbacks.should_stop = [&] { return stopped.pass() == 2 && stopped.framesDone() == 17; };
+    ASSERT_EQ(stopped.run(callbacks), Reconstruction::Outcome::Stopped);
+    stopped.saveCheckpoint(path);
+  }
+  Reconstruction resumed(*data_, options);
+  resumed.resume(path);
+  EXPECT_EQ(resumed.pass(), 2);
+  EXPECT_EQ(resumed.framesDone(), 17);
+  ASSERT_EQ(resumed.run({}), Reconstruction::Outcome::Finished);
+  ASSERT_EQ(resumed.trajectory().size(), through.trajectory().size());
+  for (size_t i = 0; i < through.trajectory().size(); ++i)
+    EXPECT_TRUE(test::sameBits(resumed.trajectory()[i].T_world_cam, through.trajectory()[i].T_world_cam)) << i;
+  ASSERT_EQ(resumed.odometry().size(), through.odometry().size());
+  EXPECT_EQ(test::firstDifferentBrick(resumed.pipeline().hostVolume(), through.pipeline().hostVolume()), -1);
 }
 
 TEST_F(ResumeTest, MismatchingOrDamagedCheckpointIsRefusedWithAReason) {

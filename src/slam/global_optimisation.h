@@ -1,0 +1,43 @@
+#pragma once
+// After the first pass: the keyframes' loops found and verified (slam/loop_closure.h), the pose
+// graph optimised (slam/pose_graph.h), and every posed frame moved with the keyframe it was
+// tracked after (its pose relative to that keyframe is what tracking measured and stays).
+#include <vector>
+
+#include "core/pose.h"
+#include "slam/keyframes.h"
+#include "slam/loop_closure.h"
+#include "slam/pose_graph.h"
+
+namespace vf::slam {
+
+struct GlobalParams {
+  bool loop_closure = true;
+  // The frames are fused again only when the optimisation moves some part of a view (its camera,
+  // or the point 2 m in front of it) by at least this much: less cannot double a surface, and a
+  // second pass costs about half the first.
+  double min_correction_m = 0.005;
+  // When every loop agrees with the first pass's poses within this many of its standard
+  // deviations, the poses stand as they are.
+  double loops_agree_chi = 2.0;
+  LoopParams loops;
+  PoseGraphParams graph;
+};
+
+struct GlobalReport {
+  int keyframes = 0;
+  int candidates = 0;         // keyframe pairs checked
+  int loops_found = 0;        // whose depth aligned
+  int loops_accepted = 0;     // that the optimised graph agrees with
+  double largest_correction_m = 0, median_correction_m = 0;  // how far the frames' views moved
+  bool moved_enough = false;  // the frames were moved (and are fused again)
+  bool moved() const { return moved_enough; }
+};
+
+// poses[k] was tracked after keyframe anchors[k] (-1: before any keyframe; such a pose stays).
+// Moves the keyframes' poses in `keyframes` and returns the frames' poses; unchanged when no loop
+// holds.
+std::vector<Pose> optimiseTrajectory(KeyframeStore& keyframes, const std::vector<Pose>& poses,
+                                     const std::vector<int>& anchors, const GlobalParams& params, GlobalReport* report);
+
+}  // namespace vf::slam

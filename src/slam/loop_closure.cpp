@@ -1,0 +1,112 @@
+#include "slam/loop_closure.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "core/error.h"
+
+namespace vf::slam {
+namespace {
+
+double angleDeg(const Pose& a, const Pose& b) {
+  return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle() * 180.0 / M_PI;
+}
+
+// The alignment's information has the right shape (a corridor constrains little along itself,
+// a view of one wall nothing along it) but not the right size: it treats thousands of point
+// residuals as independent, and claims a hundredth of a millimetre. Scaled so that the mean
+// translation axis has a standard deviation of sigma_m, the size of the errors edges really have
+// (the tracker's drift between keyframes, a loop's misalignment).
+Eigen::Matrix<double, 6, 6> edgeInformation(const CloudAlignment& a, double sigma_m) {
+  const double translation_trace = a.information.bottomRightCorner<3, 3>().trace();
+  if (!(translation_trace > 0)) return Eigen::Matrix<double, 6, 6>::Identity() / (sigma_m * sigma_m);
+  return a.information * (3.0 / translation_trace) / (sigma_m * sigma_m);
+}
+
+}  // namespace
+
+void LoopParams::validate() const {
+  if (min_separation_frames < 1 || candidates_by_code < 0 || candidates_by_place < 0 || !(min_overlap > 0) ||
+      !(max_rmse_m > 0) || !(loop_sigma_m > 0) || !(odometry_sigma_m > 0) || !(odometry_drift >= 0) ||
+      !(max_candidate_distance_m > 0))
+    throw Error("LoopParams: separations, counts and limits must be positive");
+}
+
+std::vector<PoseGraphEdge> odometryEdges(const KeyframeStore& keyframes, const LoopParams& params) {
+  std::vector<PoseGraphEdge> edges;
+  for (int i = 0; i + 1 < keyframes.size(); ++i) {
+    const Keyframe& a = keyframes[i];
+    const Keyframe& b = keyframes[i + 1];
+    PoseGraphEdge e;
+    e.from = i;
+    e.to = i + 1;
+    e.T_from_to = a.T_world_cam.inverse() * b.T_world_cam;
+    // The information of the two views' depth at the tracked relative pose (no refinement: the
+    // measurement stays the tracker's, which saw every frame in between). Where the views share
+    // too little (a relocalisation across a gap), a weak isotropic information of 1 cm / 1 degree.
+    const auto aligned = alignClouds(b.cloud, a.cloud, e.T_from_to, 0.1f, 0);
+    if (aligned && aligned->overlap >= params.min_overlap) {
+      // Tracking drifts by about a percent of the distance travelled, and a few millimetres anyway.
+      const double sigma = params.odometry_sigma_m + params.odometry_drift * e.T_from_to.translation().norm();
+      e.information = edgeInformation(*aligned, sigma);
+    } else {
+      e.information.setZero();
+      e.information.diagonal() << 1.0 / 3e-4, 1.0 / 3e-4, 1.0 / 3e-4, 1e4, 1e4, 1e4;
+    }
+    edges.push_back(e);
+  }
+  return edges;
+}
+
+std::vector<PoseGraphEdge> detectLoops(const KeyframeStore& keyframes, const LoopParams& params, LoopStats* stats) {
+  params.validate();
+  std::vector<PoseGraphEdge> loops;
+  LoopStats local;
+  for (int j = 0; j < keyframes.size(); ++j) {
+    const Keyframe& newer = keyframes[j];
+    std::vector<std::pair<float, int>> by_code, by_place;
+    for (int i = 0; i < j; ++i) {
+      const Keyframe& older = keyframes[i];
+      if (newer.frame_index - older.frame_index < params.min_separation_frames) continue;
+      const float d = FernEncoder::dissimilarity(newer.code, older.code);
+      if (d <= params.max_code_dissimilarity) by_code.push_back({d, i});
+      const double distance = (newer.T_world_cam.translation() - older.T_world_cam.translation()).norm();
+      if (distance <= params.max_candidate_distance_m &&
+          angleDeg(newer.T_world_cam, older.T_world_cam) <= params.max_candidate_angle_deg)
+        by_place.push_back({float(distance), i});
+    }
+    std::sort(by_code.begin(), by_code.end());
+    std::sort(by_place.begin(), by_place.end());
+    std::set<int> candidates;
+    for (size_t k = 0; k < by_code.size() && int(k) < params.candidates_by_code; ++k) candidates.insert(by_code[k].second);
+    for (size_t k = 0; k < by_place.size() && int(k) < params.candidates_by_place; ++k)
+      candidates.insert(by_place[k].second);
+    for (int i : candidates) {
+      const Keyframe& older = keyframes[i];
+      ++local.candidates;
+      std::vector<Pose> starts{older.T_world_cam.inverse() * newer.T_world_cam};
+      if (const auto features = estimateRelativePose(newer.features, older.features, 20))
+        starts.insert(starts.begin(), features->T_target_source);
+      std::optional<CloudAlignment> best;
+      for (const Pose& start : starts) {
+        const auto a = alignClouds(newer.cloud, older.cloud, start, 0.05f, 20);
+        if (!a || a->overlap < params.min_overlap || a->rmse_m > params.max_rmse_m) continue;
+        if (!best || a->overlap > best->overlap) best = a;
+      }
+      if (!best) continue;
+      ++local.verified;
+      PoseGraphEdge e;
+      e.from = i;
+      e.to = j;
+      e.T_from_to = best->T_target_source;
+      e.information = edgeInformation(*best, std::max(double(best->rmse_m), double(params.loop_sigma_m)));
+      e.loop = true;
+      loops.push_back(e);
+    }
+  }
+  if (stats) *stats = local;
+  return loops;
+}
+
+}  // namespace vf::slam

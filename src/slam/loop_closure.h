@@ -1,0 +1,43 @@
+#pragma once
+// Finding where the camera came back: for each keyframe, older keyframes that look alike (their
+// appearance codes, slam/frame_code.h) or that the odometry puts nearby are candidates; a
+// candidate becomes a loop edge only when the two views' depth aligns (slam/keyframe_cloud.h)
+// from a start their point features agree on, or from the odometry's guess, with enough overlap
+// and a small residual. The pose graph's robust loss and switching (slam/pose_graph.h) then deal
+// with a wrong loop that looks right to both checks.
+#include <vector>
+
+#include "slam/keyframes.h"
+#include "slam/pose_graph.h"
+
+namespace vf::slam {
+
+struct LoopParams {
+  int min_separation_frames = 90;        // keyframes nearer in the sequence are neighbours, not a loop
+  int candidates_by_code = 3;            // per keyframe: the older ones with the nearest codes
+  float max_code_dissimilarity = 0.6f;   // and only those at most this different
+  int candidates_by_place = 3;           // per keyframe: the older ones the odometry puts nearest
+  float max_candidate_distance_m = 1.0f;  // within this distance
+  float max_candidate_angle_deg = 40.f;   // looking within this angle
+  float min_overlap = 0.3f;              // share of the newer view's points the older one explains
+  float max_rmse_m = 0.015f;             // point-to-plane, over those points
+  // The size of edge errors, for their information matrices (loop_closure.cpp edgeInformation):
+  // A loop: two views' depth aligned to each other carries the sensor's per-pixel depth bias (a
+  // degree or two between views far apart on a Kinect v1, a couple of centimetres at 1-2 m).
+  double loop_sigma_m = 0.02;
+  double odometry_sigma_m = 0.001;       // the tracker between two keyframes: this, plus
+  double odometry_drift = 0.005;         // this share of the distance between them
+  void validate() const;
+};
+
+struct LoopStats {
+  int candidates = 0;   // pairs checked
+  int verified = 0;     // pairs whose depth aligned: loop edges
+};
+
+// The odometry edges between consecutive keyframes (their tracked poses, with the information of
+// their depth's alignment at that pose), then the loop edges found; node i is keyframe i.
+std::vector<PoseGraphEdge> odometryEdges(const KeyframeStore& keyframes, const LoopParams& params);
+std::vector<PoseGraphEdge> detectLoops(const KeyframeStore& keyframes, const LoopParams& params, LoopStats* stats);
+
+}  // namespace vf::slam

@@ -1,0 +1,284 @@
+#include "slam/tracker.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "core/error.h"
+#include "fusion/brick_hash.h"
+
+namespace vf::slam {
+namespace {
+
+bool samePose(const Pose& a, const Pose& b) {
+  const Pose d = a.inverse() * b;
+  return d.translation().norm() < 0.01 && Eigen::AngleAxisd(d.linear()).angle() < 0.5 * M_PI / 180.0;
+}
+
+}  // namespace
+
+void TrackerParams::validate() const {
+  auto require = [](bool ok, const char* what) {
+    if (!ok) throw Error(std::string("TrackerParams.") + what);
+  };
+  require(probation_frames >= 1 && probation_frames <= 100, "probation_frames must be in [1, 100]");
+  require(keyframe_novelty >= 0 && keyframe_novelty <= 1, "keyframe_novelty must be in [0, 1]");
+  require(keyframe_min_inlier_fraction >= 0 && keyframe_min_inlier_fraction <= 1,
+          "keyframe_min_inlier_fraction must be in [0, 1]");
+  require(relocalise_by_code >= 0 && relocalise_recent >= 0, "relocalisation candidate counts must be >= 0");
+  require(min_depth_share > 0 && min_depth_share < 1, "min_depth_share must be in (0, 1)");
+  require(max_speed_m_s > 0 && max_turn_deg_s > 0 && reach_slack_m >= 0 && reach_slack_deg >= 0,
+          "the relocalisation reach (speed, turn rate, slack) must be positive");
+}
+
+Tracker::Tracker(Pipeline& pipeline, PoseSource poses, const TrackerParams& params)
+    : pipeline_(pipeline), poses_(poses), params_(params) {
+  params_.validate();
+}
+
+bool Tracker::hasDepth(const RgbdFrame& frame, std::string* why) const {
+  const MeasurementParams& m = pipeline_.params().measurement;
+  const DepthImage& depth = frame.depth;
+  const size_t n = size_t(depth.width()) * size_t(depth.height());
+  size_t in_range = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const float z = depth.data()[i];
+    in_range += z >= m.min_depth_m && z <= m.max_depth_m ? 1 : 0;
+  }
+  if (double(in_range) >= double(params_.min_depth_share) * double(n)) return true;
+  std::vector<float> readings;
+  for (size_t i = 0; i < n; ++i)
+    if (depth.data()[i] > 0.f && std::isfinite(depth.data()[i])) readings.push_back(depth.data()[i]);
+  char text[200];
+  if (readings.empty()) {
+    std::snprintf(text, sizeof(text), "no valid depth");
+  } else {
+    std::nth_element(readings.begin(), readings.begin() + long(readings.size() / 2), readings.end());
+    std::snprintf(text, sizeof(text),
+                  "%.1f%% of the pixels have depth within %.2f-%.1f m (the readings' median is %.2f m)",
+                  100.0 * double(in_range) / double(n), m.min_depth_m, m.max_depth_m,
+                  double(readings[readings.size() / 2]));
+  }
+  *why = text;
+  return false;
+}
+
+Pose Tracker::predictedPose(const RgbdFrame& frame) const {
+  const Pose& T = pipeline_.pose();
+  if (poses_ == PoseSource::GivenIcp && last_given_ && frame.T_world_cam_given)
+    return T * (last_given_->inverse() * *frame.T_world_cam_given);
+  return pipeline_.params().icp.constant_velocity ? T * pipeline_.state().last_motion : T;
+}
+
+Tracker::Step Tracker::lost(FrameResult result) {
+  pipeline_.skip();
+  result.tracked = false;
+  result.integrated = false;
+  result.T_world_cam = pipeline_.pose();
+  Step step;
+  step.drop_pending = state_ == State::Probation;
+  if (state_ != State::Starting) state_ = State::Lost;
+  step.result = std::move(result);
+  return step;
+}
+
+Tracker::Step Tracker::process(const RgbdFrame& frame) {
+  if (poses_ != PoseSource::Icp && !frame.T_world_cam_given)
+    throw Error("frame " + frame.name + " has no recorded pose, and --poses given or given+icp needs one for every frame");
+  pipeline_.measure(frame);
+  Step step;
+  if (poses_ == PoseSource::Given) step = withGivenPose(frame);
+  else if (state_ == State::Starting) step = start(frame);
+  else if (state_ == State::Lost) step = relocalise(frame);
+  else step = trackOn(frame);
+  if (frame.T_world_cam_given) last_given_ = frame.T_world_cam_given;
+  return step;
+}
+
+Tracker::Step Tracker::withGivenPose(const RgbdFrame& frame) {
+  const Pose& T = *frame.T_world_cam_given;
+  const double reach_m = double(kBrickCoordLimit) * kBrickSize * double(pipeline_.params().volume.voxel_size_m);
+  const double far_m = T.translation().norm() + double(pipeline_.params().measurement.max_depth_m);
+  if (!T.matrix().allFinite() || far_m >= reach_m) {
+    FrameResult r;
+    r.reason = LostReason::OutOfReach;
+    char text[200];
+    std::snprintf(text, sizeof(text), "its recorded pose lies %.3g m from the origin, beyond the volume's reach of %.3g m",
+                  T.translation().norm(), reach_m);
+    r.lost_reason = text;
+    return lost(r);
+  }
+  Step step;
+  pipeline_.commit(T, true, step.result);
+  state_ = State::Tracking;
+  return step;
+}
+
+Tracker::Step Tracker::start(const RgbdFrame& frame) {
+  std::string why;
+  if (!hasDepth(frame, &why)) {
+    FrameResult r;
+    r.reason = LostReason::NoDepth;
+    r.lost_reason = why + "; the map starts at the first frame with depth";
+    return lost(r);
+  }
+  Step step;
+  const Pose T = poses_ == PoseSource::GivenIcp ? *frame.T_world_cam_given : Pose::Identity();
+  pipeline_.commit(T, true, step.result);
+  step.result.icp_inlier_fraction = 1.f;
+  state_ = State::Tracking;
+  last_good_ = T;
+  last_good_time_ = frame.timestamp;
+  harvest(frame, step.result);
+  return step;
+}
+
+Tracker::Step Tracker::trackOn(const RgbdFrame& frame) {
+  std::string why;
+  if (!hasDepth(frame, &why)) {
+    FrameResult r;
+    r.reason = LostReason::NoDepth;
+    r.lost_reason = why;
+    return lost(r);
+  }
+  FrameResult r = pipeline_.track(predictedPose(frame), TrackingCheck{pipeline_.pose(), false});
+  if (!r.tracked) return lost(r);
+  Step step;
+  if (state_ == State::Probation) {
+    ++probation_count_;
+    const bool holds = probation_count_ >= params_.probation_frames;
+    pipeline_.commit(r.T_world_cam, holds, r);
+    step.pending = !holds;
+    step.confirm_pending = holds;
+    if (holds) state_ = State::Tracking;
+  } else {
+    pipeline_.commit(r.T_world_cam, true, r);
+  }
+  last_good_ = r.T_world_cam;
+  last_good_time_ = frame.timestamp;
+  if (state_ == State::Tracking) harvest(frame, r);
+  step.result = std::move(r);
+  return step;
+}
+
+Tracker::Step Tracker::relocalise(const RgbdFrame& frame) {
+  std::string why;
+  if (!hasDepth(frame, &why)) {
+    FrameResult r;
+    r.reason = LostReason::NoDepth;
+    r.lost_reason = why;
+    return lost(r);
+  }
+  const MeasurementParams& m = pipeline_.params().measurement;
+  std::vector<Pose> candidates{last_good_};
+  auto addCandidate = [&](const Pose& T) {
+    for (const Pose& c : candidates)
+      if (samePose(c, T)) return;
+    candidates.push_back(T);
+  };
+  std::vector<int> ids = keyframes_.nearest(encoder_.encode(frame, m.min_depth_m, m.max_depth_m), params_.relocalise_by_code);
+  for (int i = std::max(0, keyframes_.size() - params_.relocalise_recent); i < keyframes_.size(); ++i)
+    if (std::find(ids.begin(), ids.end(), i) == ids.end()) ids.push_back(i);
+  FrameFeatures features;
+  if (!ids.empty()) features = extractFeatures(frame, pipeline_.intrinsics(), m.min_depth_m, m.max_depth_m);
+  for (int id : ids) {
+    const Keyframe& k = keyframes_[id];
+    if (!features.empty() && !k.features.empty())
+      if (const auto relative = estimateRelativePose(features, k.features)) addCandidate(k.T_world_cam * relative->T_target_source);
+    addCandidate(k.T_world_cam);
+  }
+  // Candidates the camera cannot have reached since it was last tracked are not tried.
+  const double elapsed_s = frame.timestamp - last_good_time_;
+  if (std::isfinite(elapsed_s) && elapsed_s > 0) {
+    const double reach_m = params_.reach_slack_m + params_.max_speed_m_s * elapsed_s;
+    const double turn_deg = params_.reach_slack_deg + params_.max_turn_deg_s * elapsed_s;
+    candidates.erase(std::remove_if(candidates.begin(), candidates.end(),
+                                    [&](const Pose& c) {
+                                      const Pose d = last_good_.inverse() * c;
+                                      return d.translation().norm() > reach_m ||
+                                             Eigen::AngleAxisd(d.linear()).angle() * 180.0 / M_PI > turn_deg;
+                                    }),
+                     candidates.end());
+  }
+  std::optional<FrameResult> best;
+  FrameResult closest;  // the best rejected one, for the report
+  for (const Pose& candidate : candidates) {
+    pipeline_.predictForTracking(candidate);
+    FrameResult r = pipeline_.track(candidate, TrackingCheck{candidate, true});
+    if (r.tracked && (!best || r.icp_inlier_fraction > best->icp_inlier_fraction)) best = r;
+    if (!r.tracked && r.icp_inlier_fraction >= closest.icp_inlier_fraction) closest = r;
+  }
+  if (!best) {
+    FrameResult r = closest;
+    r.reason = LostReason::Relocalising;
+    char text[240];
+    std::snprintf(text, sizeof(text), "lost; none of %zu candidate poses agrees with the model (best: %s)",
+                  candidates.size(), closest.lost_reason.c_str());
+    r.lost_reason = text;
+    return lost(r);
+  }
+  ++relocalisations_;
+  Step step;
+  state_ = State::Probation;
+  probation_count_ = 1;
+  const bool holds = probation_count_ >= params_.probation_frames;
+  pipeline_.commit(best->T_world_cam, holds, *best);
+  step.pending = !holds;
+  step.confirm_pending = holds;
+  if (holds) state_ = State::Tracking;
+  last_good_ = best->T_world_cam;
+  last_good_time_ = frame.timestamp;
+  step.result = std::move(*best);
+  return step;
+}
+
+void Tracker::harvest(const RgbdFrame& frame, const FrameResult& result) {
+  if (result.icp_inlier_fraction < params_.keyframe_min_inlier_fraction) return;
+  const MeasurementParams& m = pipeline_.params().measurement;
+  FrameCode code = encoder_.encode(frame, m.min_depth_m, m.max_depth_m);
+  if (code.empty()) return;
+  bool moved_on = keyframes_.size() == 0;
+  if (!moved_on) {
+    const Pose since = keyframes_[keyframes_.size() - 1].T_world_cam.inverse() * result.T_world_cam;
+    moved_on = since.translation().norm() > params_.keyframe_distance_m ||
+               Eigen::AngleAxisd(since.linear()).angle() * 180.0 / M_PI > params_.keyframe_angle_deg;
+  }
+  if (!moved_on && !keyframes_.isNewView(code, params_.keyframe_novelty)) return;
+  Keyframe k;
+  k.frame_index = frame.index;
+  k.T_world_cam = result.T_world_cam;
+  k.code = std::move(code);
+  k.features = extractFeatures(frame, pipeline_.intrinsics(), m.min_depth_m, m.max_depth_m);
+  k.cloud = makeKeyframeCloud(frame.depth, pipeline_.intrinsics(), m.min_depth_m, m.max_depth_m);
+  keyframes_.add(std::move(k));
+}
+
+void Tracker::write(std::vector<uint8_t>& out) const {
+  ByteWriter w(out);
+  w.pod<uint8_t>(uint8_t(state_));
+  w.pod<int32_t>(probation_count_);
+  w.pod<int32_t>(relocalisations_);
+  w.pose(last_good_);
+  w.pod(last_good_time_);
+  w.pod<uint8_t>(last_given_ ? 1 : 0);
+  w.pose(last_given_.value_or(Pose::Identity()));
+  keyframes_.write(out);
+}
+
+void Tracker::read(ByteReader& in) {
+  const uint8_t state = in.read<uint8_t>("tracking state");
+  if (state > uint8_t(State::Probation)) in.fail("tracking state " + std::to_string(state) + " is unknown");
+  state_ = State(state);
+  probation_count_ = in.read<int32_t>("probation count");
+  relocalisations_ = in.read<int32_t>("relocalisation count");
+  if (probation_count_ < 0 || relocalisations_ < 0) in.fail("negative tracking counters");
+  last_good_ = readPose(in, "last good pose");
+  last_good_time_ = in.read<double>("last good time");
+  const bool has_given = in.read<uint8_t>("recorded pose flag") != 0;
+  const Pose given = readPose(in, "recorded pose");
+  last_given_.reset();
+  if (has_given) last_given_ = given;
+  keyframes_.read(in);
+}
+
+}  // namespace vf::slam

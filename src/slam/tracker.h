@@ -1,0 +1,87 @@
+#pragma once
+// Decides, frame by frame, which pose to trust and whether to fuse, driving the fusion Pipeline
+// step by step (fusion/pipeline.h: measure, track, commit or skip):
+//   Starting   until a frame has depth: the map starts there (a lens cap, a warming sensor).
+//   Tracking   frame-to-model ICP from the predicted pose; a frame the judge rejects is not
+//              fused, has no pose, and tracking is lost.
+//   Lost       each frame tries candidate poses: the last good one, and the keyframes nearest by
+//              appearance code, also moved by the point features they share with the frame; ICP
+//              from each against the model raycast from there, judged strictly.
+//   Probation  a relocalised pose must track for a few frames before fusion resumes; their poses
+//              are pending until then, and dropped if the pose does not hold.
+// Keyframes are harvested while tracking is good and the view is new (slam/keyframes.h).
+#include <vector>
+
+#include "core/frame.h"
+#include "fusion/pipeline.h"
+#include "slam/keyframes.h"
+
+namespace vf::slam {
+
+struct TrackerParams {
+  int probation_frames = 5;                // frames a relocalised pose must hold before fusion resumes
+  float keyframe_novelty = 0.3f;           // a new keyframe's code differs this much from every stored one,
+  float keyframe_distance_m = 0.3f;        // or the camera moved this far from the last keyframe,
+  float keyframe_angle_deg = 20.f;         // or turned this much
+  float keyframe_min_inlier_fraction = 0.5f;  // only views tracked at least this well become keyframes
+  int relocalise_by_code = 3;              // keyframes nearest by code tried as relocalisation candidates
+  int relocalise_recent = 2;               // and the latest keyframes, whatever their code
+  float min_depth_share = 0.02f;           // less of the image in range counts as no depth
+  // A relocalised pose must be one the camera could have reached since it was last tracked: a
+  // hand-held or walking camera moves at most this fast (plus the slack below), so a view that
+  // merely looks like an earlier one (a corridor's twin doors) is not taken for it.
+  float max_speed_m_s = 2.f;
+  float max_turn_deg_s = 180.f;
+  float reach_slack_m = 0.3f;
+  float reach_slack_deg = 30.f;
+  void validate() const;
+};
+
+class Tracker {
+ public:
+  Tracker(Pipeline& pipeline, PoseSource poses, const TrackerParams& params = {});
+
+  enum class State : uint8_t { Starting, Tracking, Lost, Probation };
+  // What became of one frame.
+  struct Step {
+    FrameResult result;        // tracked = it has a pose (final or pending); integrated = fused
+    bool pending = false;      // its pose waits for the probation to end
+    bool confirm_pending = false;  // the probation ended well: every pending pose is final now
+    bool drop_pending = false;     // the probation failed: the pending frames are lost
+  };
+  Step process(const RgbdFrame& frame);
+
+  State state() const { return state_; }
+  const KeyframeStore& keyframes() const { return keyframes_; }
+  KeyframeStore& keyframes() { return keyframes_; }
+  int relocalisations() const { return relocalisations_; }
+
+  // For checkpoints (the pipeline saves its own state).
+  void write(std::vector<uint8_t>& out) const;
+  void read(ByteReader& in);
+
+ private:
+  Step start(const RgbdFrame& frame);
+  Step trackOn(const RgbdFrame& frame);
+  Step relocalise(const RgbdFrame& frame);
+  Step lost(FrameResult result);
+  Step withGivenPose(const RgbdFrame& frame);
+  // The share of the frame's pixels with depth in range, and the median of all its readings.
+  bool hasDepth(const RgbdFrame& frame, std::string* why) const;
+  void harvest(const RgbdFrame& frame, const FrameResult& result);
+  Pose predictedPose(const RgbdFrame& frame) const;
+
+  Pipeline& pipeline_;
+  PoseSource poses_;
+  TrackerParams params_;
+  FernEncoder encoder_;
+  KeyframeStore keyframes_;
+  State state_ = State::Starting;
+  int probation_count_ = 0;
+  int relocalisations_ = 0;
+  Pose last_good_ = Pose::Identity();          // the last pose tracked (or relocalised) well
+  double last_good_time_ = 0;                  // its frame's timestamp
+  std::optional<Pose> last_given_;             // GivenIcp: the recorded pose of the previous frame
+};
+
+}  // namespace vf::slam
