@@ -4,6 +4,8 @@
 #include <signal.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -86,15 +88,47 @@ TEST(AtomicFile, AnAbandonedOrFailedWriteKeepsTheOldTarget) {
             std::string::npos);
 }
 
-TEST(AtomicFile, PendingOutputsAreRemovedOnRequestAndStaleOnesFound) {
+// Runs `body` in a child process (what it does cannot be undone in this one) and returns its exit
+// status, or 128 + the signal that ended it.
+template <class Body>
+int statusOfChild(Body&& body) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    int status = 99;
+    try {
+      status = body();
+    } catch (...) {
+      status = 98;
+    }
+    _exit(status);
+  }
+  int raw = 0;
+  waitpid(pid, &raw, 0);
+  return WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);
+}
+
+TEST(AtomicFile, PendingOutputsAreRemovedOnRequestAndNoneMadeAfter) {
   const std::string dir = test::tempDir("atomic_pending");
-  AtomicFile a(dir + "/a.ply");
-  a.write("partial");
-  AtomicFolder b(dir + "/export");
-  std::ofstream(b.file("mesh.ply")) << "partial";
-  EXPECT_EQ(entries(dir), 2u);
-  removeAllPendingOutputs();  // what the signal thread does before the process ends
-  EXPECT_EQ(entries(dir), 0u);
+  // In a child: the cleanup is what the signal thread does before the process ends, for good.
+  const int status = statusOfChild([&] {
+    AtomicFile a(dir + "/a.ply");
+    a.write("partial");
+    AtomicFolder b(dir + "/export");
+    std::ofstream(b.file("mesh.ply")) << "partial";
+    if (entries(dir) != 2) return 1;
+    removeAllPendingOutputs();
+    if (entries(dir) != 0) return 2;
+    // From now on the process is ending: nothing new is started (it would be left behind).
+    const std::string error = test::errorOf([&] { writeFileAtomic(dir + "/late.txt", "x"); });
+    if (error.find("stopped by a signal") == std::string::npos) return 3;
+    if (test::errorOf([&] { a.commit(); }).find("stopped by a signal") == std::string::npos) return 4;
+    return entries(dir) == 0 ? 0 : 5;
+  });
+  EXPECT_EQ(status, 0) << "1, 2: temporaries before/after the cleanup; 3, 4: a write after it; 5: left behind";
+}
+
+TEST(AtomicFile, StaleTemporariesAreFound) {
+  const std::string dir = test::tempDir("atomic_stale");
   // A killed process's leftover beside a target is recognised by its prefix.
   std::ofstream(dir + "/" + temporaryPrefix(dir + "/a.ply") + "4242_0.ply") << "left by a SIGKILL";
   std::ofstream(dir + "/a.ply.txt") << "a user's file";
