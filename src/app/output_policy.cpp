@@ -5,6 +5,7 @@
 
 #include "core/atomic_output.h"
 #include "core/error.h"
+#include "core/output_lock.h"
 
 namespace vf::app {
 namespace fs = std::filesystem;
@@ -68,6 +69,9 @@ void OutputPolicy::claim(const std::string& path, const std::string& option, boo
                 (is_folder ? "replace it with everything in it" : "overwrite it"));
   if (exists && is_folder != fs::is_directory(path, ec))
     throw Error(option + " " + path + " exists and is " + (is_folder ? "not a folder" : "a folder"));
+  // Held until the process ends; then no other run writes this output, and the temporaries beside
+  // it are a killed run's leftovers (issue 35: two runs on one -o both "succeeded").
+  lockOutputForThisRun(path);
   removeStaleTemporaries(path);
   outputs_.emplace_back(target, option);
 }

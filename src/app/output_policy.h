@@ -2,8 +2,9 @@
 // Which paths a command may write, decided before any work starts, the same way for every
 // command: an existing output is kept unless --force is given, no output may be one of the
 // command's inputs (or, for a folder output, hold one), no two outputs may be the same file, and
-// an output's folder must exist. Temporaries a killed run left beside an output are removed.
-// The writes themselves go through core/atomic_output.h.
+// an output's folder must exist. A claimed output is locked for the rest of the run
+// (core/output_lock.h): a second run writing it fails at once. Then the temporaries a killed run
+// left beside it are removed. The writes themselves go through core/atomic_output.h.
 #include <filesystem>
 #include <string>
 #include <vector>

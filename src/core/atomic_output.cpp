@@ -4,6 +4,7 @@
 #include <stdio.h>  // renameat2
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstring>
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/output_lock.h"
 
 namespace vf {
 namespace {
@@ -109,6 +111,23 @@ void renameInto(const std::string& from, const std::string& to, const std::strin
     throw Error("cannot write " + target + ": cannot move the finished output into place (" + errnoText() + ")");
 }
 
+// Whether `name` is "<prefix><digits>_<digits><ext>", a temporary as temporaryFor() names them;
+// sets `pid` to the first number.
+bool isTemporaryName(const std::string& name, const std::string& prefix, const std::string& ext, long& pid) {
+  if (name.size() <= prefix.size() + ext.size() || name.compare(0, prefix.size(), prefix) != 0 ||
+      name.compare(name.size() - ext.size(), ext.size(), ext) != 0)
+    return false;
+  const std::string middle = name.substr(prefix.size(), name.size() - prefix.size() - ext.size());
+  const size_t underscore = middle.find('_');
+  const auto digits = [](const std::string& s) {
+    return !s.empty() && s.size() < 19 && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+  };
+  if (underscore == std::string::npos || !digits(middle.substr(0, underscore)) || !digits(middle.substr(underscore + 1)))
+    return false;
+  pid = std::stol(middle.substr(0, underscore));
+  return true;
+}
+
 }  // namespace
 
 std::string temporaryPrefix(const std::string& target) {
@@ -116,12 +135,17 @@ std::string temporaryPrefix(const std::string& target) {
 }
 
 int removeStaleTemporaries(const std::string& target) {
+  // Only under the output's lock: then no other run is writing this target, and a temporary of
+  // it is a leftover of a run that died (kill -9), never a live run's work (issue 35).
+  if (!holdsOutputLock(target))
+    throw Error("cannot write " + target + ": its leftover temporaries may only be removed under its lock");
   const fs::path t(target);
-  const std::string prefix = temporaryPrefix(target);
+  const std::string prefix = temporaryPrefix(target), ext = t.extension().string();
   std::error_code ec;
   int removed = 0;
   for (const auto& entry : fs::directory_iterator(folderOf(t), ec)) {
-    if (entry.path().filename().string().rfind(prefix, 0) != 0) continue;
+    long pid = 0;
+    if (!isTemporaryName(entry.path().filename().string(), prefix, ext, pid) || pid == long(::getpid())) continue;
     fs::remove_all(entry.path(), ec);
     ++removed;
   }
@@ -142,6 +166,7 @@ void removeAllPendingOutputs() {
         fs::remove_all(path, ec);
     r.pending.clear();
   }
+  removeOutputLockFiles();
 }
 
 AtomicFile::AtomicFile(std::string target) : target_(std::move(target)), temp_(temporaryFor(target_)) {

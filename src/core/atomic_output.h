@@ -74,7 +74,8 @@ class AtomicFolder {
 // One call for a file whose bytes are in memory.
 void writeFileAtomic(const std::string& path, const std::string& bytes);
 
-// Removes every temporary not yet committed or removed. For the app's signal thread, which calls it from normal (not
+// Removes every temporary not yet committed or removed, and this process's output lock files
+// (core/output_lock.h). For the app's signal thread, which calls it from normal (not
 // signal-handler) context before the process ends: it waits for a commit in progress, and from
 // then on every new temporary and every commit throws vf::Error (the process is ending).
 void removeAllPendingOutputs();
@@ -82,7 +83,9 @@ void removeAllPendingOutputs();
 // The prefix every temporary of `target` starts with, so that a later run can find the ones a
 // killed process (SIGKILL) left behind.
 std::string temporaryPrefix(const std::string& target);
-// Removes those leftovers beside `target`; returns how many there were.
+// Removes those leftovers beside `target` (".<name>.tmp<pid>_<n><ext>", none of this process);
+// returns how many there were. Only under the target's lock (lockOutputForThisRun()): then no
+// other run is writing them; throws vf::Error without it.
 int removeStaleTemporaries(const std::string& target);
 
 }  // namespace vf

@@ -15,6 +15,7 @@
 #include "core/byte_reader.h"
 #include "core/error.h"
 #include "core/mapped_file.h"
+#include "core/output_lock.h"
 #include "test_data.h"
 
 namespace vf {
@@ -127,13 +128,65 @@ TEST(AtomicFile, PendingOutputsAreRemovedOnRequestAndNoneMadeAfter) {
   EXPECT_EQ(status, 0) << "1, 2: temporaries before/after the cleanup; 3, 4: a write after it; 5: left behind";
 }
 
-TEST(AtomicFile, StaleTemporariesAreFound) {
+TEST(AtomicFile, StaleTemporariesAreRemovedOnlyUnderTheLockAndOnlyThose) {
   const std::string dir = test::tempDir("atomic_stale");
-  // A killed process's leftover beside a target is recognised by its prefix.
-  std::ofstream(dir + "/" + temporaryPrefix(dir + "/a.ply") + "4242_0.ply") << "left by a SIGKILL";
+  const std::string target = dir + "/a.ply";
+  const std::string prefix = dir + "/" + temporaryPrefix(target);
+  std::ofstream(prefix + "4242_0.ply") << "left by a SIGKILL";
+  std::error_code ec;
+  fs::create_directory(prefix + "4243_7.ply", ec);  // a killed folder commit's
   std::ofstream(dir + "/a.ply.txt") << "a user's file";
-  EXPECT_EQ(removeStaleTemporaries(dir + "/a.ply"), 1);
-  EXPECT_EQ(entries(dir), 1u);
+  std::ofstream(prefix + "_notes.ply") << "a user's file too: not a temporary's name";
+  std::ofstream(prefix + "4244_1.ply.bak") << "nor this";
+  // Without the lock another run may be writing them.
+  EXPECT_NE(test::errorOf([&] { removeStaleTemporaries(target); }).find("under its lock"), std::string::npos);
+  EXPECT_EQ(entries(dir), 5u);
+  lockOutputForThisRun(target);
+  AtomicFile live(target);  // this process's own: never a leftover
+  live.write("being written");
+  EXPECT_EQ(removeStaleTemporaries(target), 2);
+  EXPECT_EQ(entries(dir), 5u);  // three user files, the live temporary, the lock file
+  EXPECT_TRUE(fs::exists(live.tempPath()));
+  EXPECT_TRUE(fs::exists(outputLockPath(target)));
+}
+
+TEST(OutputLock, ASecondProcessIsRefusedWithTheHoldersPidUntilItDies) {
+  const std::string dir = test::tempDir("output_lock");
+  const std::string target = dir + "/scene.vdb";
+  int ready[2];
+  ASSERT_EQ(pipe(ready), 0);
+  const pid_t holder = fork();
+  if (holder == 0) {
+    lockOutputForThisRun(target);
+    const char byte = 1;
+    (void)!::write(ready[1], &byte, 1);
+    for (;;) pause();
+  }
+  char byte = 0;
+  ASSERT_EQ(::read(ready[0], &byte, 1), 1);
+  EXPECT_FALSE(holdsOutputLock(target));
+  // The "second run" is a child too: a refused lock attempt leaves this process free to take it.
+  const std::string expected = target + " is being written by another vdbfuse run (PID " + std::to_string(holder) + ")";
+  EXPECT_EQ(statusOfChild([&] {
+              const std::string error = test::errorOf([&] { lockOutputForThisRun(target); });
+              return error.find(expected) != std::string::npos ? 0 : 1;
+            }),
+            0)
+      << expected;
+  // kill -9: the kernel releases the lock; the file it leaves blocks nobody.
+  kill(holder, SIGKILL);
+  waitpid(holder, nullptr, 0);
+  EXPECT_TRUE(fs::exists(outputLockPath(target)));
+  EXPECT_NO_THROW(lockOutputForThisRun(target));
+  EXPECT_TRUE(holdsOutputLock(target));
+  // Removed as this run ends, still locked until then.
+  EXPECT_EQ(statusOfChild([&] {
+              removeOutputLockFiles();
+              return fs::exists(outputLockPath(target)) ? 1 : 0;
+            }),
+            0);
+  close(ready[0]);
+  close(ready[1]);
 }
 
 TEST(AtomicFolder, ReplacesAFolderWholeAndOnlyOnCommit) {
