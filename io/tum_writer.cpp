@@ -59,8 +59,10 @@ TumWriteResult writeTumFolder(const FrameSource& source, const std::string& fold
   AtomicFolder output(folder);
   const fs::path dir(output.tempPath());
   std::error_code ec;
-  fs::create_directories(dir / "depth", ec);
-  if (!ec) fs::create_directories(dir / "rgb", ec);
+  // create_directory, not create_directories: if a signal's cleanup has removed the temporary
+  // folder, this must fail rather than make it again (it would be left behind).
+  fs::create_directory(dir / "depth", ec);
+  if (!ec) fs::create_directory(dir / "rgb", ec);
   if (ec) throw Error(folder + ": cannot create the output folders (" + ec.message() + ")");
 
   const int total = options.max_frames >= 0 ? std::min(options.max_frames, source.size())

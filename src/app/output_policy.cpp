@@ -5,6 +5,7 @@
 
 #include "core/atomic_output.h"
 #include "core/error.h"
+#include "core/output_lock.h"
 
 namespace vf::app {
 namespace fs = std::filesystem;
@@ -36,26 +37,36 @@ void OutputPolicy::requireExtension(const std::string& path, const std::vector<s
   throw Error(option + " " + path + ": this output is written as " + known + "; name it so");
 }
 
-void OutputPolicy::input(const std::string& path) { inputs_.push_back(resolved(path)); }
+void OutputPolicy::input(const std::string& path) { inputs_.push_back({resolved(path), path}); }
 
 void OutputPolicy::file(const std::string& path, const std::string& option) { claim(path, option, false); }
 
 void OutputPolicy::folder(const std::string& path, const std::string& option) { claim(path, option, true); }
 
+void OutputPolicy::filesInto(const std::string& path, const std::string& option) {
+  if (path.empty()) throw Error(option + ": the output folder is empty");
+  refuseInsideInputs(path, resolved(path), option);
+}
+
+void OutputPolicy::refuseInsideInputs(const std::string& path, const fs::path& target, const std::string& option) const {
+  std::error_code ec;
+  for (const Input& in : inputs_) {
+    // A file written into an input folder changes the input: frames a dataset reader lists by
+    // name, a capture's rgbd/ folder, a dataset's groundtruth.txt (issue 35).
+    if (in.resolved != target && isWithin(target, in.resolved) && fs::is_directory(in.resolved, ec))
+      throw Error(option + " " + path + " is inside " + in.given + ", a folder this command reads; writing there " +
+                  "would change its input. Write the output elsewhere");
+  }
+}
+
 void OutputPolicy::claim(const std::string& path, const std::string& option, bool is_folder) {
   if (path.empty()) throw Error(option + ": the output path is empty");
   const fs::path target = resolved(path);
-  for (const fs::path& in : inputs_)
-    if (in == target || (is_folder && isWithin(in, target)))
-      throw Error(option + " " + path + (in == target ? " is" : " holds") + " an input of this command (" +
-                  in.string() + "); write the output elsewhere");
-  // A file of an input folder (a dataset's groundtruth.txt) is an input too, once it exists.
-  std::error_code exists_ec;
-  if (!is_folder && fs::exists(target, exists_ec))
-    for (const fs::path& in : inputs_)
-      if (isWithin(target, in) && fs::is_directory(in, exists_ec))
-        throw Error(option + " " + path + " is a file of " + in.string() +
-                    ", an input of this command; write the output elsewhere");
+  for (const Input& in : inputs_)
+    if (in.resolved == target || (is_folder && isWithin(in.resolved, target)))
+      throw Error(option + " " + path + (in.resolved == target ? " is" : " holds") + " an input of this command (" +
+                  in.given + "); write the output elsewhere");
+  refuseInsideInputs(path, target, option);
   for (const auto& [out, other] : outputs_)
     if (out == target) throw Error(option + " " + path + " is also the output of " + other + "; give each its own path");
   const fs::path parent = fs::path(path).has_parent_path() ? fs::path(path).parent_path() : fs::path(".");
@@ -68,6 +79,9 @@ void OutputPolicy::claim(const std::string& path, const std::string& option, boo
                 (is_folder ? "replace it with everything in it" : "overwrite it"));
   if (exists && is_folder != fs::is_directory(path, ec))
     throw Error(option + " " + path + " exists and is " + (is_folder ? "not a folder" : "a folder"));
+  // Held until the process ends; then no other run writes this output, and the temporaries beside
+  // it are a killed run's leftovers (issue 35: two runs on one -o both "succeeded").
+  lockOutputForThisRun(path);
   removeStaleTemporaries(path);
   outputs_.emplace_back(target, option);
 }

@@ -117,6 +117,7 @@ void claimOutputs(const ReconstructOptions& o) {
   if (!o.odometry.empty()) outputs.file(o.odometry, "--odometry");
   if (!o.video.empty()) outputs.file(o.video, "--video");
   if (!o.output.empty()) outputs.file(o.checkpoint(), "the checkpoint");
+  if (!o.renders_dir.empty()) outputs.filesInto(o.renders_dir, "--renders");
   if (!o.renders_dir.empty() && std::filesystem::exists(o.renders_dir) && !o.force && !o.resume)
     for (const auto& entry : std::filesystem::directory_iterator(o.renders_dir))
       if (entry.path().filename().string().rfind("frame_", 0) == 0)

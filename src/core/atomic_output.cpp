@@ -1,49 +1,63 @@
 #include "core/atomic_output.h"
 
 #include <fcntl.h>
+#include <stdio.h>  // renameat2
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
-#include <map>
 #include <mutex>
 #include <set>
 #include <vector>
 
 #include "core/error.h"
+#include "core/output_lock.h"
 
 namespace vf {
 namespace {
 
 namespace fs = std::filesystem;
 
-// Temporaries not yet committed or removed, for removeAllPendingOutputs().
-std::mutex g_pending_mutex;
-std::set<std::string>& pending() {
-  static std::set<std::string> paths;
-  return paths;
+// Temporaries not yet committed or removed, and the lock that orders every change of them against
+// the signal thread's cleanup (removeAllPendingOutputs()).
+//
+// Why every create and every commit holds the lock: the signal thread removes the temporaries and
+// then ends the process while the command's threads go on running. A folder commit that
+// interleaved with it lost the user's folder (issue 35): the cleanup removed the new temporary,
+// the commit then moved the old folder aside, and the process died before it could move it back;
+// the old content sat in a temporary that the next run's sweep deleted. A cleanup that ran during
+// the commit's rename could also remove half of the new folder after it had taken the target's
+// name. So the cleanup takes the same lock: it waits for a commit in progress (a few renames), and
+// it closes the registry as it runs: a later create or commit throws (the process is about to end
+// by the signal) instead of starting a change that the end of the process would cut in half.
+// Never destroyed: the signal thread may use it while static objects are being destroyed.
+struct Registry {
+  std::mutex mutex;
+  std::set<std::string> pending;
+  bool closed = false;  // removeAllPendingOutputs() has run: the process is ending
+};
+Registry& registry() {
+  static Registry* r = new Registry;
+  return *r;
 }
-void track(const std::string& path) {
-  std::lock_guard<std::mutex> lock(g_pending_mutex);
-  pending().insert(path);
+
+// Runs `change(pending)` under the lock unless the cleanup has run; then throws, naming `target`.
+template <class Change>
+auto whileOpen(const std::string& target, Change&& change) {
+  Registry& r = registry();
+  std::lock_guard<std::mutex> lock(r.mutex);
+  if (r.closed) throw Error("cannot write " + target + ": stopped by a signal, the output is left as it was");
+  return change(r.pending);
 }
-// Old outputs moved aside while a folder commit swaps the new one in: aside -> target. Until the
-// swap is done they are the user's data, to be put back, never removed, if the process must end.
-std::map<std::string, std::string>& asides() {
-  static std::map<std::string, std::string> paths;
-  return paths;
-}
+
 void untrack(const std::string& path) {
-  std::lock_guard<std::mutex> lock(g_pending_mutex);
-  pending().erase(path);
-  asides().erase(path);
+  std::lock_guard<std::mutex> lock(registry().mutex);
+  registry().pending.erase(path);
 }
-void trackAside(const std::string& aside, const std::string& target) {
-  std::lock_guard<std::mutex> lock(g_pending_mutex);
-  asides()[aside] = target;
-}
+
 void removeTracked(const std::string& path) {
   std::error_code ec;
   fs::remove_all(path, ec);
@@ -68,6 +82,7 @@ std::string temporaryFor(const std::string& target) {
 }
 
 std::string errnoText() { return std::strerror(errno); }
+std::string errnoText(int err) { return std::strerror(err); }
 
 bool syncPath(const std::string& path, int flags) {
   const int fd = ::open(path.c_str(), flags | O_CLOEXEC);
@@ -76,12 +91,41 @@ bool syncPath(const std::string& path, int flags) {
   return ::close(fd) == 0 && ok;
 }
 
-// The one rename of the project: everything that appears under its final name comes through here.
+// The renames of the project: everything that appears under its final name comes through here.
 bool tryRename(const std::string& from, const std::string& to) { return ::rename(from.c_str(), to.c_str()) == 0; }
+
+// Swaps two existing paths in one step (Linux renameat2 RENAME_EXCHANGE): the target names the old
+// folder, then the new one, never nothing, even if the process is killed (-9) in between. False
+// with errno EINVAL or ENOSYS where the file system or the kernel cannot.
+bool tryExchange(const std::string& a, const std::string& b) {
+#ifdef RENAME_EXCHANGE
+  return ::renameat2(AT_FDCWD, a.c_str(), AT_FDCWD, b.c_str(), RENAME_EXCHANGE) == 0;
+#else
+  errno = ENOSYS;
+  return false;
+#endif
+}
 
 void renameInto(const std::string& from, const std::string& to, const std::string& target) {
   if (!tryRename(from, to))
     throw Error("cannot write " + target + ": cannot move the finished output into place (" + errnoText() + ")");
+}
+
+// Whether `name` is "<prefix><digits>_<digits><ext>", a temporary as temporaryFor() names them;
+// sets `pid` to the first number.
+bool isTemporaryName(const std::string& name, const std::string& prefix, const std::string& ext, long& pid) {
+  if (name.size() <= prefix.size() + ext.size() || name.compare(0, prefix.size(), prefix) != 0 ||
+      name.compare(name.size() - ext.size(), ext.size(), ext) != 0)
+    return false;
+  const std::string middle = name.substr(prefix.size(), name.size() - prefix.size() - ext.size());
+  const size_t underscore = middle.find('_');
+  const auto digits = [](const std::string& s) {
+    return !s.empty() && s.size() < 19 && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+  };
+  if (underscore == std::string::npos || !digits(middle.substr(0, underscore)) || !digits(middle.substr(underscore + 1)))
+    return false;
+  pid = std::stol(middle.substr(0, underscore));
+  return true;
 }
 
 }  // namespace
@@ -91,12 +135,17 @@ std::string temporaryPrefix(const std::string& target) {
 }
 
 int removeStaleTemporaries(const std::string& target) {
+  // Only under the output's lock: then no other run is writing this target, and a temporary of
+  // it is a leftover of a run that died (kill -9), never a live run's work (issue 35).
+  if (!holdsOutputLock(target))
+    throw Error("cannot write " + target + ": its leftover temporaries may only be removed under its lock");
   const fs::path t(target);
-  const std::string prefix = temporaryPrefix(target);
+  const std::string prefix = temporaryPrefix(target), ext = t.extension().string();
   std::error_code ec;
   int removed = 0;
   for (const auto& entry : fs::directory_iterator(folderOf(t), ec)) {
-    if (entry.path().filename().string().rfind(prefix, 0) != 0) continue;
+    long pid = 0;
+    if (!isTemporaryName(entry.path().filename().string(), prefix, ext, pid) || pid == long(::getpid())) continue;
     fs::remove_all(entry.path(), ec);
     ++removed;
   }
@@ -104,23 +153,24 @@ int removeStaleTemporaries(const std::string& target) {
 }
 
 void removeAllPendingOutputs() {
-  std::lock_guard<std::mutex> lock(g_pending_mutex);
-  std::error_code ec;
-  // Another thread may still be adding files to a temporary folder: removal fails on the newcomers
-  // (the folder is not empty), so it is repeated until the folder is gone, after which no file can
-  // be created in it any more.
-  for (const std::string& path : pending())
-    for (int attempt = 0; attempt < 1000 && fs::exists(fs::symlink_status(path, ec)); ++attempt) fs::remove_all(path, ec);
-  pending().clear();
-  for (const auto& [aside, target] : asides()) {
-    if (!fs::exists(fs::symlink_status(target, ec))) tryRename(aside, target);  // the swap had not happened
-    else fs::remove_all(aside, ec);
+  {
+    Registry& r = registry();
+    std::lock_guard<std::mutex> lock(r.mutex);  // waits for a commit in progress (see Registry)
+    r.closed = true;
+    std::error_code ec;
+    // Another thread may still be adding files to a temporary folder: removal fails on the
+    // newcomers (the folder is not empty), so it is repeated until the folder is gone, after which
+    // no file can be created in it any more.
+    for (const std::string& path : r.pending)
+      for (int attempt = 0; attempt < 1000 && fs::exists(fs::symlink_status(path, ec)); ++attempt)
+        fs::remove_all(path, ec);
+    r.pending.clear();
   }
-  asides().clear();
+  removeOutputLockFiles();
 }
 
 AtomicFile::AtomicFile(std::string target) : target_(std::move(target)), temp_(temporaryFor(target_)) {
-  track(temp_);
+  whileOpen(target_, [&](std::set<std::string>& pending) { pending.insert(temp_); });
 }
 
 AtomicFile::~AtomicFile() {
@@ -139,8 +189,14 @@ void AtomicFile::fail(const std::string& why) {
 void AtomicFile::write(const void* data, size_t bytes) {
   if (committed_) throw Error("cannot write " + target_ + ": written to after commit");
   if (!file_) {
-    file_ = std::fopen(temp_.c_str(), "wb");
-    if (!file_) fail("cannot create " + temp_ + " (" + errnoText() + ")");
+    // Created under the registry's lock: a file created after the signal thread's cleanup would
+    // be left behind.
+    int err = 0;
+    whileOpen(target_, [&](std::set<std::string>&) {
+      file_ = std::fopen(temp_.c_str(), "wb");
+      err = errno;
+    });
+    if (!file_) fail("cannot create " + temp_ + " (" + errnoText(err) + ")");
   }
   if (bytes > 0 && std::fwrite(data, 1, bytes, file_) != bytes)
     fail("write failed (" + errnoText() + "; disk full?)");
@@ -162,27 +218,32 @@ void AtomicFile::commit() {
   }
   std::error_code ec;
   if (fs::is_directory(target_, ec)) fail("a folder of that name exists");
-  try {
-    renameInto(temp_, target_, target_);
-  } catch (const Error&) {
-    removeTracked(temp_);
-    committed_ = true;
-    throw;
-  }
-  untrack(temp_);
+  int err = 0;
+  const bool moved = whileOpen(target_, [&](std::set<std::string>& pending) {
+    const bool renamed = tryRename(temp_, target_);
+    if (renamed) pending.erase(temp_);
+    else err = errno;
+    return renamed;
+  });
   committed_ = true;
+  if (!moved) {
+    removeTracked(temp_);
+    throw Error("cannot write " + target_ + ": cannot move the finished output into place (" + errnoText(err) + ")");
+  }
   syncPath(folderOf(fs::path(target_)).string(), O_RDONLY | O_DIRECTORY);
 }
 
 AtomicFolder::AtomicFolder(std::string target) : target_(std::move(target)) {
   while (!target_.empty() && target_.size() > 1 && target_.back() == '/') target_.pop_back();
   temp_ = temporaryFor(target_);
-  track(temp_);
   std::error_code ec;
-  if (!fs::create_directory(temp_, ec) || ec) {
-    untrack(temp_);
-    throw Error("cannot write " + target_ + ": cannot create " + temp_ + " (" + ec.message() + ")");
-  }
+  // Created under the registry's lock, as AtomicFile::write's file.
+  const bool created = whileOpen(target_, [&](std::set<std::string>& pending) {
+    if (!fs::create_directory(temp_, ec) || ec) return false;
+    pending.insert(temp_);
+    return true;
+  });
+  if (!created) throw Error("cannot write " + target_ + ": cannot create " + temp_ + " (" + ec.message() + ")");
 }
 
 AtomicFolder::~AtomicFolder() {
@@ -191,6 +252,41 @@ AtomicFolder::~AtomicFolder() {
 
 std::string AtomicFolder::file(const std::string& name) const { return (fs::path(temp_) / name).string(); }
 
+namespace {
+
+// A folder commit's renames, under the registry's lock. Returns the path that now holds the old
+// folder, to be removed ("" when there was none).
+std::string swapIntoPlace(const std::string& temp, const std::string& target, std::set<std::string>& pending) {
+  std::error_code ec;
+  if (!fs::exists(fs::symlink_status(target, ec))) {
+    renameInto(temp, target, target);
+    pending.erase(temp);
+    return "";
+  }
+  if (!fs::is_directory(target, ec)) throw Error("cannot write " + target + ": a file of that name exists");
+  // Exchanged, the temporary holds the old folder: it stays pending, removed by commit() or, if
+  // the process must end first, by the cleanup.
+  if (tryExchange(temp, target)) return temp;
+  if (errno != EINVAL && errno != ENOSYS)
+    throw Error("cannot write " + target + ": cannot move the finished output into place (" + errnoText() + ")");
+  // No exchange here: a folder cannot be renamed over a non-empty one, so the old one steps aside
+  // first and comes back if the new one cannot take its place. The signal's cleanup cannot come in
+  // between (the registry's lock); only a kill -9 between the two renames would leave the old
+  // folder in the aside temporary instead of under its name.
+  const std::string aside = temporaryFor(target);
+  renameInto(target, aside, target);
+  if (!tryRename(temp, target)) {
+    const int err = errno;
+    tryRename(aside, target);
+    throw Error("cannot write " + target + ": cannot move the finished output into place (" + errnoText(err) + ")");
+  }
+  pending.erase(temp);
+  pending.insert(aside);
+  return aside;
+}
+
+}  // namespace
+
 void AtomicFolder::commit() {
   if (committed_) throw Error("cannot write " + target_ + ": committed twice");
   std::error_code ec;
@@ -198,24 +294,10 @@ void AtomicFolder::commit() {
     if (entry.is_regular_file() && !syncPath(entry.path().string(), O_RDONLY))
       throw Error("cannot write " + target_ + ": cannot sync " + entry.path().string() + " (" + errnoText() + ")");
   if (ec) throw Error("cannot write " + target_ + ": cannot list " + temp_ + " (" + ec.message() + ")");
-  // A folder cannot be renamed over a non-empty one: the old one steps aside first and goes once
-  // the new one is in place (or comes back if that fails).
-  std::string old;
-  if (fs::exists(target_, ec)) {
-    if (!fs::is_directory(target_, ec)) throw Error("cannot write " + target_ + ": a file of that name exists");
-    old = temporaryFor(target_);
-    trackAside(old, target_);
-    renameInto(target_, old, target_);
-  }
-  try {
-    renameInto(temp_, target_, target_);
-  } catch (const Error&) {
-    if (!old.empty() && tryRename(old, target_)) untrack(old);
-    throw;
-  }
-  untrack(temp_);
+  const std::string old =
+      whileOpen(target_, [&](std::set<std::string>& pending) { return swapIntoPlace(temp_, target_, pending); });
   committed_ = true;
-  if (!old.empty()) removeTracked(old);
+  if (!old.empty()) removeTracked(old);  // may take a while: outside the lock
   syncPath(folderOf(fs::path(target_)).string(), O_RDONLY | O_DIRECTORY);
 }
 
@@ -230,10 +312,14 @@ void AtomicFolder::commitFilesInto(const std::string& folder) {
     files.push_back(entry.path());
   }
   if (ec) throw Error("cannot write " + target_ + ": cannot list " + temp_ + " (" + ec.message() + ")");
-  for (const fs::path& file : files) {
-    const std::string to = (fs::path(folder) / file.filename()).string();
-    renameInto(file.string(), to, to);
-  }
+  // All under the registry's lock: a signal's cleanup cannot leave some of the set moved and the
+  // others removed.
+  whileOpen(target_, [&](std::set<std::string>&) {
+    for (const fs::path& file : files) {
+      const std::string to = (fs::path(folder) / file.filename()).string();
+      renameInto(file.string(), to, to);
+    }
+  });
   committed_ = true;
   removeTracked(temp_);
   syncPath(folder, O_RDONLY | O_DIRECTORY);

@@ -118,11 +118,11 @@ TEST(HostileInput, ImagesClaimingGigapixelsAreRefusedFromTheirHeaders) {
   const std::vector<uint8_t> huge_jpeg = jpegClaiming(30000, 30000);
   ASSERT_LT(huge_jpeg.size(), 2000u);
   tum.replace(tum.rgb[1], huge_jpeg);
-  expectRefused(tum.reconstruct(tum.dir + "/out.vdb"), {fs::path(tum.rgb[1]).filename().string(), "30000x30000"});
+  expectRefused(tum.reconstruct(tum.dir + "_out.vdb"), {fs::path(tum.rgb[1]).filename().string(), "30000x30000"});
 
   TumCopy depth("hostile_huge_depth", 4);
   depth.replace(depth.depth[2], pngClaiming(40000, 40000));
-  expectRefused(depth.reconstruct(depth.dir + "/out.vdb"), {fs::path(depth.depth[2]).filename().string(), "40000x40000"});
+  expectRefused(depth.reconstruct(depth.dir + "_out.vdb"), {fs::path(depth.depth[2]).filename().string(), "40000x40000"});
 
   VF_REQUIRE_DATA(capture, "record3d_dance_head200.r3d");
   const std::string dir = test::tempDir("hostile_huge_r3d");
@@ -145,7 +145,7 @@ TEST(HostileInput, TruncatedJpegsAreRefusedNotFused) {
   std::vector<uint8_t> jpeg = bytesOf(encodeJpeg(frame, 90, "frame"));
   jpeg.resize(jpeg.size() * 2 / 3);
   tum.replace(tum.rgb[2], jpeg);
-  expectRefused(tum.reconstruct(tum.dir + "/out.vdb"), {fs::path(tum.rgb[2]).filename().string(), "truncated"});
+  expectRefused(tum.reconstruct(tum.dir + "_out.vdb"), {fs::path(tum.rgb[2]).filename().string(), "truncated"});
 }
 
 TEST(HostileInput, AMissingMiddleFrameIsAnErrorNamingIt) {
@@ -242,7 +242,7 @@ TEST(HostileInput, FifosAndDevicesAreRefusedNotReadForever) {
     ASSERT_EQ(mkfifo(path.c_str(), 0644), 0) << path;
   };
   fifo(dir + "/" + tum.rgb[1]);
-  expectRefused(tum.reconstruct(dir + "/out.vdb"), {fs::path(tum.rgb[1]).filename().string()});
+  expectRefused(tum.reconstruct(dir + "_out.vdb"), {fs::path(tum.rgb[1]).filename().string()});
   fifo(dir + "/scene.vdb");
   expectRefused({"mesh", dir + "/scene.vdb", "-o", dir + "/m.ply"}, {"scene.vdb"});
   expectRefused({"info", dir + "/scene.vdb"}, {"scene.vdb"});
@@ -263,7 +263,7 @@ TEST(HostileInput, FifosAndDevicesAreRefusedNotReadForever) {
                    "2", "--device", "cpu", "-q"},
                   {table});
   fifo(dir + "/depth.txt");
-  expectRefused(tum.reconstruct(dir + "/out.vdb"), {"depth.txt"});
+  expectRefused(tum.reconstruct(dir + "_out.vdb"), {"depth.txt"});
   fifo(dir + "/capture.r3d");
   expectRefused({"reconstruct", dir + "/capture.r3d", "-o", dir + "/out.vdb"}, {"capture.r3d"});
   EXPECT_FALSE(fs::exists(dir + "/out.vdb"));

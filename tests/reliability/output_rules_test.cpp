@@ -6,6 +6,7 @@
 
 #include <filesystem>
 
+#include "io/zip_archive.h"
 #include "reliability/cli_harness.h"
 #include "reliability/scene_fixture.h"
 #include "test_data.h"
@@ -89,6 +90,45 @@ TEST_F(OutputRulesTest, AnOutputIsNeverAnInputOrAnotherOutput) {
   expectRefused({"reconstruct", own, "-o", dir_ + "/x.vdb", "--trajectory", own + "/groundtruth.txt", "--max-frames",
                  "2", "--force"},
                 "input");
+}
+
+// An output inside an input folder changes the input (issue 35, cause 3): renders among a
+// dataset's files, a scene beside its frames, a converted capture inside the capture's own rgbd/
+// folder (read back as frames). Refused for every command, naming both.
+TEST_F(OutputRulesTest, AnOutputNeverLandsInsideAnInputFolder) {
+  VF_REQUIRE_DATA(dataset, "tum_fr3_teddy_head60");
+  VF_REQUIRE_DATA(capture, "record3d_dance_head200.r3d");
+  // Folders of this test's own (frames linked), so that a binary without the rule (VDBFUSE_EXE)
+  // writes into them, not into the shared data.
+  const std::string own = dir_ + "/dataset";
+  fs::create_directories(own);
+  for (const std::string name : {"rgb", "depth", "rgb.txt", "depth.txt", "camera_intrinsics.txt", "groundtruth.txt"})
+    fs::create_symlink(dataset + "/" + name, own + "/" + name);
+  const std::vector<std::string> fuse = {"reconstruct", own, "--max-frames", "2", "--device", "cpu", "-q"};
+  const auto with = [](std::vector<std::string> args, const std::vector<std::string>& more) {
+    args.insert(args.end(), more.begin(), more.end());
+    return args;
+  };
+  expectRefused(with(fuse, {"-o", dir_ + "/x.vdb", "--renders", own + "/renders"}),
+                "--renders " + own + "/renders is inside " + own + ", a folder this command reads");
+  expectRefused(with(fuse, {"-o", own + "/x.vdb"}), "-o " + own + "/x.vdb is inside " + own);
+  expectRefused(with(fuse, {"-o", dir_ + "/x.vdb", "--trajectory", own + "/../dataset/poses.txt"}),
+                "--trajectory " + own + "/../dataset/poses.txt is inside " + own);
+  // A Record3D capture unzipped into a folder (three frames of it).
+  const std::string unzipped = dir_ + "/capture";
+  fs::create_directories(unzipped + "/rgbd");
+  const ZipArchive zip(capture);
+  for (const std::string entry : {"metadata", "rgbd/0.jpg", "rgbd/0.depth", "rgbd/0.conf", "rgbd/1.jpg",
+                                  "rgbd/1.depth", "rgbd/1.conf", "rgbd/2.jpg", "rgbd/2.depth", "rgbd/2.conf"}) {
+    const std::vector<uint8_t> bytes = zip.read(entry);
+    test::writeText(unzipped + "/" + entry, std::string(bytes.begin(), bytes.end()));
+  }
+  expectRefused({"convert", unzipped, unzipped + "/rgbd/9.depth", "--max-frames", "2"},
+                "output " + unzipped + "/rgbd/9.depth is inside " + unzipped + ", a folder this command reads");
+  expectRefused({"convert", unzipped, unzipped + "/tum"}, "output " + unzipped + "/tum is inside " + unzipped);
+  // Beside the input folder is fine.
+  const test::CliRun beside = runVdbfuse({"convert", unzipped, dir_ + "/tum", "--max-frames", "2"});
+  EXPECT_EQ(beside.status, 0) << beside.output;
 }
 
 TEST_F(OutputRulesTest, AnOutputsNameSaysItsFormat) {

@@ -19,12 +19,6 @@ namespace fs = std::filesystem;
 
 const std::string kOld = "the old output\n";
 
-// OpenVDB gives every file a new UUID (header bytes 21..56): equal scenes differ only there.
-std::string withoutVdbUuid(const std::string& path, std::string bytes) {
-  if (fs::path(path).extension() == ".vdb" && bytes.size() > 57) std::fill(bytes.begin() + 21, bytes.begin() + 57, '0');
-  return bytes;
-}
-
 // Signals `command` at times spread over its run: each run either finishes (status 0, the new
 // output in place) or dies of the signal (128 + signal) with the old output, or the whole new one
 // when the signal came after the rename; none leaves a temporary.
@@ -34,7 +28,7 @@ void signalAtRandomTimes(const std::string& dir, const std::vector<std::string>&
   const auto state = [&] {
     auto files = folder ? test::snapshot(target)
                         : std::vector<std::pair<std::string, std::string>>{{target, test::fileContent(target)}};
-    for (auto& [path, bytes] : files) bytes = withoutVdbUuid(path, bytes);
+    for (auto& [path, bytes] : files) bytes = test::withoutVdbUuid(path, bytes);
     return files;
   };
   const auto putOld = [&] {
