@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
 #include <numeric>
 #include <queue>
 #include <string>
@@ -56,6 +57,12 @@ Stats statistics(std::vector<double> v) {
 }
 
 constexpr double kRadToDeg = 180.0 / M_PI;
+
+// A statistic that is not finite is no result: a position out of range got past its check.
+void requireFinite(std::initializer_list<double> values, const char* what) {
+  for (const double v : values)
+    if (!std::isfinite(v)) throw Error(std::string(what) + " is not finite: the positions are too large to compare");
+}
 
 std::string seconds(double s) {
   char buf[32];
@@ -205,6 +212,7 @@ AteResult computeAte(const Trajectory& estimate, const Trajectory& ground_truth,
   std::vector<double> residual_m(static_cast<size_t>(n));
   for (int k = 0; k < n; ++k) residual_m[size_t(k)] = (R * est.col(k) + t - gt.col(k)).norm();
   const Stats s = statistics(residual_m);
+  requireFinite({s.rmse, s.mean, s.median, s.max}, "the ATE");
   AteResult r;
   r.pairs = n;
   r.rmse_m = s.rmse;
@@ -216,6 +224,17 @@ AteResult computeAte(const Trajectory& estimate, const Trajectory& ground_truth,
   r.T_gt_est.linear() = R;
   r.T_gt_est.translation() = t;
   return r;
+}
+
+void requirePlausiblePositions(const Trajectory& trajectory, const std::string& source) {
+  for (size_t i = 0; i < trajectory.size(); ++i) {
+    const Eigen::Vector3d t = trajectory[i].T_world_cam.translation();
+    if (t.allFinite() && t.cwiseAbs().maxCoeff() <= kMaxPlausiblePosition_m) continue;
+    char text[160];
+    std::snprintf(text, sizeof text, "pose %zu (t = %.6f) is at (%g, %g, %g) m, not a camera position (beyond %g m)",
+                  i + 1, trajectory[i].timestamp, t.x(), t.y(), t.z(), kMaxPlausiblePosition_m);
+    throw Error(source + ": " + text);
+  }
 }
 
 void requireDistinctTimestamps(const Trajectory& trajectory, const std::string& source) {
@@ -257,6 +276,7 @@ RpeResult computeRpe(const Trajectory& estimate_in, const Trajectory& ground_tru
     throw Error("RPE needs at least 3 frame pairs " + std::to_string(delta_frames) +
                 " frame(s) apart with ground truth, found " + std::to_string(trans_m.size()));
   const Stats t = statistics(trans_m), r = statistics(rot_deg);
+  requireFinite({t.rmse, t.mean, t.median, t.max, r.rmse, r.mean, r.median, r.max}, "the RPE");
   RpeResult out;
   out.pairs = int(trans_m.size());
   out.delta_frames = delta_frames;

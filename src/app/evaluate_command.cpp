@@ -36,6 +36,8 @@ void runTrajectoryEvaluation(const EvaluateOptions& o) {
   const Trajectory ground_truth = loadGroundTruth(gt_path, o.mesh.source);
   requireDistinctTimestamps(estimate, o.trajectory);
   requireDistinctTimestamps(ground_truth, gt_path);
+  requirePlausiblePositions(estimate, o.trajectory);
+  requirePlausiblePositions(ground_truth, gt_path);
   const AteResult ate = computeAte(estimate, ground_truth);
   const RpeResult rpe = computeRpe(estimate, ground_truth, o.delta_frames);
 

@@ -224,5 +224,16 @@ TEST(Associate, DenseTimestampsNeedMemoryLinearInTheirCount) {
   EXPECT_EQ(WEXITSTATUS(status), 0) << "1: not every pose matched, 2: wrong pairs, 3: out of memory";
 }
 
+TEST(Ate, AbsurdPositionsAreRefusedNotPrintedAsInfinity) {
+  Trajectory gt = spiral(10), est = gt;
+  est[4].T_world_cam.translation() = Eigen::Vector3d(1e300, 0, 0);
+  const std::string message = test::errorOf([&] { requirePlausiblePositions(est, "est.txt"); });
+  EXPECT_NE(message.find("est.txt: pose 5 (t = 100.120000) is at (1e+300, 0, 0) m"), std::string::npos) << message;
+  EXPECT_EQ(test::errorOf([&] { requirePlausiblePositions(gt, "gt.txt"); }), "(no error)");
+  // Past the check (the library called directly), the statistics overflow: an error, not inf.
+  EXPECT_NE(test::errorOf([&] { computeAte(est, gt); }).find("the ATE is not finite"), std::string::npos);
+  EXPECT_NE(test::errorOf([&] { computeRpe(est, gt); }).find("the RPE is not finite"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace vf
