@@ -54,6 +54,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", VDBFUSE_VERSION_STRING);
   app.require_subcommand(1);
   vf::app::setupAllCommands(app);
+  vf::app::requireFiniteNumbers(app);  // every float option of every command, reconstruct's too
   const int status = runCommandLine(app, argc, argv);
   vf::app::awaitSignalTermination();  // a signal that came while the command ended decides the status
   return status;
