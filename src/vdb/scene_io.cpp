@@ -95,6 +95,8 @@ ClassTable classesFromJson(const std::string& text, const std::string& path) {
   } catch (const nlohmann::json::exception& e) {
     throw Error(path + ": metadata '" + kMetaClasses + "' is not a valid class table: " + e.what());
   }
+  // Two classes with one id: the faces of one would be written into the other's mesh.
+  table.requireUnique(path + ": metadata '" + kMetaClasses + "'");
   return table;
 }
 
