@@ -103,6 +103,7 @@ void claimOutputs(const ReconstructOptions& o) {
   }
   // A resumed run replaces the interrupted run's outputs: they are its own.
   if (!o.output.empty()) OutputPolicy::requireExtension(o.output, {".vdb"}, "-o");
+  if (!o.video.empty()) OutputPolicy::requireExtension(o.video, {".mp4"}, "--video");
   OutputPolicy outputs(o.force || o.resume);
   outputs.input(o.dataset);
   if (!o.labels_dir.empty()) outputs.input(o.labels_dir);
