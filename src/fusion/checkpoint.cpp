@@ -317,11 +317,16 @@ RunProgress readCheckpoint(const std::string& path, Pipeline& pipeline, const Ru
   const uint32_t n = readCount(r, "brick", per_brick);
   bricks.resize(n);
   const size_t voxels = size_t(n) * kBrickVoxels;
-  std::memcpy(bricks.coords.data(), r.take(n * sizeof(Vec3i), "brick coordinates"), n * sizeof(Vec3i));
-  std::memcpy(bricks.tsdf.data(), r.take(voxels * sizeof(TsdfVoxel), "tsdf"), voxels * sizeof(TsdfVoxel));
-  std::memcpy(bricks.color.data(), r.take(voxels * sizeof(Rgb8), "colour"), voxels * sizeof(Rgb8));
-  if (h.with_classes)
-    std::memcpy(bricks.class_vote.data(), r.take(voxels * sizeof(uint32_t), "class votes"), voxels * sizeof(uint32_t));
+  // A run that fused nothing saves no brick: the empty arrays have no storage to copy into (a null
+  // pointer, which memcpy must not get even for 0 bytes).
+  const auto copy = [&r](void* dst, size_t bytes, const char* what) {
+    const uint8_t* src = r.take(bytes, what);
+    if (bytes > 0) std::memcpy(dst, src, bytes);
+  };
+  copy(bricks.coords.data(), n * sizeof(Vec3i), "brick coordinates");
+  copy(bricks.tsdf.data(), voxels * sizeof(TsdfVoxel), "tsdf");
+  copy(bricks.color.data(), voxels * sizeof(Rgb8), "colour");
+  if (h.with_classes) copy(bricks.class_vote.data(), voxels * sizeof(uint32_t), "class votes");
   if (!r.atEnd()) throw Error("checkpoint " + path + " has trailing bytes (written by another version?)");
   requireDistinctBricks(bricks, path);
   try {

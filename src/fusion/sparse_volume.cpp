@@ -335,6 +335,7 @@ void SparseVolume::restore(const HostBrickVolume& bricks) {
     if (!brickCoordInRange(b)) throw Error("volume: a saved brick lies outside the volume's range");
   const size_t voxels = size_t(n) * kBrickVoxels;
   auto put = [&](void* dst, const void* src, size_t bytes) {
+    if (bytes == 0) return;  // no brick saved: the empty arrays' data() is null
     if (device_ == Device::Cuda) cuda::copyToDevice(dst, src, bytes);
     else std::memcpy(dst, src, bytes);
   };
