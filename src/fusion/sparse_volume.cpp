@@ -266,6 +266,7 @@ bool SparseVolume::growPool(int needed) {
   target = std::min(target, size_t(pool_limit_));
   if (!pool_->resize(target, size_t(brick_count_))) {
     pool_limit_ = pool_capacity_;  // memory is exhausted: this is as large as the pool gets
+    refreshView();                 // a failed growth may still have moved some arrays (CPU)
     return false;
   }
   pool_capacity_ = int(target);
