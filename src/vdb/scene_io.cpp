@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <new>
 #include <stdexcept>
 #include <nlohmann/json.hpp>
 
@@ -155,6 +156,8 @@ void writeVdbFileAtomic(const std::string& path, const openvdb::GridPtrVec& grid
     // libopenvdb's stream reports no write errors (a full disk leaves a short file): the file is
     // walked as a reader would before it may replace the target.
     checkVdbFileStructure(output.tempPath(), names);
+  } catch (const std::bad_alloc&) {
+    throw;  // out of memory, not of disk: the command says what lowers the need
   } catch (const std::exception& e) {
     throw Error(path + ": cannot write " + what + " (disk full?): " + e.what());
   }
