@@ -120,14 +120,7 @@ ClassTable parseClassTable(const std::string& json_text, const std::string& sour
 
   std::sort(table.classes.begin(), table.classes.end(),
             [](const ClassInfo& a, const ClassInfo& b) { return a.id < b.id; });
-  std::set<std::string> names;
-  for (size_t i = 0; i < table.classes.size(); ++i) {
-    const ClassInfo& c = table.classes[i];
-    if (i > 0 && table.classes[i - 1].id == c.id)
-      throw Error(source + ": class id " + std::to_string(c.id) + " appears twice ('" + table.classes[i - 1].name +
-                  "' and '" + c.name + "')");
-    if (!names.insert(c.name).second) throw Error(source + ": class name '" + c.name + "' appears twice");
-  }
+  table.requireUnique(source);
   return table;
 }
 

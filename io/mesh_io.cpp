@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -425,14 +426,25 @@ TriangleMesh readPly(const std::string& path, std::optional<MeshFrame>* frame) {
       int32_t cls = -1;
       bool has_n = false, has_c = false, has_k = false;
       for (const PlyProperty& prop : el.props) {
+        const auto truncated = [&] {
+          return Error(path + ": PLY file is truncated: it ends in " + el.name + " " + std::to_string(i) + " of " +
+                       std::to_string(el.count));
+        };
         auto value = [&](const std::string& type) {
           if (ascii) {
-            double d;
-            if (!(in >> d)) throw Error(path + ": PLY file is truncated");
+            // A word, then the number: `in >> double` fails alike on the end of the file and on
+            // "nan" or "inf", which were all reported as a truncated file.
+            std::string word;
+            if (!(in >> word)) throw truncated();
+            char* end = nullptr;
+            const double d = std::strtod(word.c_str(), &end);
+            if (end != word.c_str() + word.size())
+              throw Error(path + ": PLY " + el.name + " " + std::to_string(i) + ": property '" + prop.name + "' is '" +
+                          word + "', not a number");
             return d;
           }
           char b[8];
-          if (!in.read(b, std::streamsize(plyTypeSize(type, path)))) throw Error(path + ": PLY file is truncated");
+          if (!in.read(b, std::streamsize(plyTypeSize(type, path)))) throw truncated();
           return plyRead(b, type);
         };
         if (prop.is_list) {
@@ -459,6 +471,13 @@ TriangleMesh readPly(const std::string& path, std::optional<MeshFrame>* frame) {
         else if (nm == "class") cls = int32_t(plyInteger(d, INT32_MIN, INT32_MAX, path, "class")), has_k = true;
       }
       if (!is_vertex) continue;
+      // NaN or inf has no place on a surface: the metrics and the writers would carry it on.
+      if (!isFinite(pos)) {
+        std::ostringstream text;
+        text << path << ": PLY vertex " << mesh.positions.size() << " has a coordinate that is not a finite number ("
+             << pos.x << ", " << pos.y << ", " << pos.z << ")";
+        throw Error(text.str());
+      }
       mesh.positions.push_back(pos);
       if (has_n) mesh.normals.push_back(nrm);
       if (has_c) mesh.colors.push_back(col);

@@ -1,4 +1,5 @@
 // libvdbfuse_opencv.so: io/opencv_plugin.h on OpenCV (not part of vf_io; io/CMakeLists.txt).
+#include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
@@ -11,15 +12,31 @@ namespace {
 
 class OpenCvVideo : public VideoSink {
  public:
+  // FFmpeg only: with any backend, a file FFmpeg refused went on to GStreamer, whose warnings
+  // and OpenCV's assertion text reached the user. OpenCV's exceptions stay in here.
   bool open(const std::string& path, int width, int height, double fps) {
-    return writer_.open(path, cv::VideoWriter::fourcc('m', 'p', '4', 'v'), fps, cv::Size(width, height), true);
+    try {
+      return writer_.open(path, cv::CAP_FFMPEG, cv::VideoWriter::fourcc('m', 'p', '4', 'v'), fps,
+                          cv::Size(width, height), true);
+    } catch (const cv::Exception&) {
+      return false;
+    }
   }
   void write(const ColorImage& frame) override {
     const cv::Mat rgba(frame.height(), frame.width(), CV_8UC4, const_cast<Rgb8*>(frame.data()));
-    cv::cvtColor(rgba, bgr_, cv::COLOR_RGBA2BGR);
-    writer_.write(bgr_);
+    try {
+      cv::cvtColor(rgba, bgr_, cv::COLOR_RGBA2BGR);
+      writer_.write(bgr_);
+    } catch (const cv::Exception& e) {
+      throw Error(std::string("the video writer failed: ") + e.err);
+    }
   }
-  void release() override { writer_.release(); }
+  void release() override {
+    try {
+      writer_.release();
+    } catch (const cv::Exception&) {  // an unfinished file: the caller sees it empty or short
+    }
+  }
 
  private:
   cv::VideoWriter writer_;
@@ -58,6 +75,9 @@ class OpenCvModule : public OpenCvPlugin {
 }  // namespace vf
 
 extern "C" vf::OpenCvPlugin* vdbfuse_opencv_plugin_v1() {
+  // OpenCV's own log lines ("[ WARN:0@0.1] global cap_gstreamer.cpp ...") are not for the user:
+  // what fails comes back as a null writer or a vf::Error that names the file.
+  cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
   static vf::OpenCvModule module;
   return &module;
 }

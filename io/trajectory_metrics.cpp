@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
 #include <numeric>
+#include <queue>
 #include <string>
 #include <tuple>
 
@@ -56,6 +58,12 @@ Stats statistics(std::vector<double> v) {
 
 constexpr double kRadToDeg = 180.0 / M_PI;
 
+// A statistic that is not finite is no result: a position out of range got past its check.
+void requireFinite(std::initializer_list<double> values, const char* what) {
+  for (const double v : values)
+    if (!std::isfinite(v)) throw Error(std::string(what) + " is not finite: the positions are too large to compare");
+}
+
 std::string seconds(double s) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g s", s);
@@ -64,31 +72,109 @@ std::string seconds(double s) {
 
 }  // namespace
 
+// associate.py takes every pair within the tolerance as a candidate and matches them greedily,
+// smallest difference first (ties by a index, then b index). Listing the candidates took memory
+// quadratic in dense timestamps (8,000 poses 1 us apart: 64 million pairs, 1.5 GB). The same
+// matches come from neighbours alone: the closest unmatched pair has no unmatched timestamp
+// strictly between its two, so it is adjacent in the merged order of what is left. Equal
+// timestamps are matched first (difference 0, in index order); after that a value holds
+// unmatched timestamps of one list only, and each value stands as one group whose smallest
+// unmatched index is the candidate. A heap of adjacent groups gives n log n.
 std::vector<std::pair<int, int>> associateTimestamps(const std::vector<double>& a, const std::vector<double>& b,
                                                      double max_difference_s, double offset_s) {
-  // Candidates come from a window search in sorted b, not all |a| x |b| pairs; the greedy
-  // choice afterwards is the script's. Ties break by (a index, b index) for determinism.
-  std::vector<int> b_order(b.size());
-  std::iota(b_order.begin(), b_order.end(), 0);
-  std::sort(b_order.begin(), b_order.end(), [&](int i, int j) { return b[i] < b[j]; });
-  std::vector<double> b_sorted;
-  for (int j : b_order) b_sorted.push_back(b[j] + offset_s);
-
-  std::vector<std::tuple<double, int, int>> candidates;
-  for (int i = 0; i < int(a.size()); ++i) {
-    auto it = std::lower_bound(b_sorted.begin(), b_sorted.end(), a[i] - max_difference_s);
-    for (; it != b_sorted.end() && *it <= a[i] + max_difference_s; ++it) {
-      const double diff = std::abs(a[i] - *it);
-      if (diff < max_difference_s) candidates.emplace_back(diff, i, b_order[size_t(it - b_sorted.begin())]);
-    }
-  }
-  std::sort(candidates.begin(), candidates.end());
-  std::vector<char> a_used(a.size(), 0), b_used(b.size(), 0);
   std::vector<std::pair<int, int>> matches;
-  for (const auto& [diff, i, j] : candidates) {
-    if (a_used[i] || b_used[j]) continue;
-    a_used[i] = b_used[j] = 1;
-    matches.emplace_back(i, j);
+  if (!(max_difference_s > 0)) return matches;  // no difference is below it
+  // Every timestamp by value (b shifted as the script shifts it), a's before b's, then by index.
+  struct Item {
+    double t;
+    int list;  // 0: a, 1: b
+    int index;
+  };
+  std::vector<Item> items;
+  items.reserve(a.size() + b.size());
+  // A timestamp that is not finite is within no difference of any other (NaN or inf - inf).
+  for (int i = 0; i < int(a.size()); ++i)
+    if (std::isfinite(a[size_t(i)])) items.push_back({a[size_t(i)], 0, i});
+  for (int j = 0; j < int(b.size()); ++j)
+    if (std::isfinite(b[size_t(j)] + offset_s)) items.push_back({b[size_t(j)] + offset_s, 1, j});
+  std::sort(items.begin(), items.end(), [](const Item& x, const Item& y) {
+    return std::tie(x.t, x.list, x.index) < std::tie(y.t, y.list, y.index);
+  });
+
+  // Groups of equal value: equal a's and b's pair off in index order (difference 0); what is left
+  // of a value is of one list, kept as a queue of indices, smallest first.
+  struct Group {
+    double t;
+    int list;
+    std::vector<int> indices;  // ascending
+    size_t head = 0;
+    int prev = -1, next = -1;  // neighbouring groups with unmatched timestamps
+    bool empty() const { return head == indices.size(); }
+  };
+  std::vector<Group> groups;
+  for (size_t k = 0; k < items.size();) {
+    size_t end = k;
+    std::vector<int> in_a, in_b;
+    while (end < items.size() && items[end].t == items[k].t) {
+      (items[end].list == 0 ? in_a : in_b).push_back(items[end].index);
+      ++end;
+    }
+    const size_t pairs = std::min(in_a.size(), in_b.size());
+    for (size_t p = 0; p < pairs; ++p) matches.emplace_back(in_a[p], in_b[p]);
+    if (in_a.size() != in_b.size()) {
+      const bool a_left = in_a.size() > in_b.size();
+      std::vector<int>& left = a_left ? in_a : in_b;
+      groups.push_back({items[k].t, a_left ? 0 : 1, std::vector<int>(left.begin() + long(pairs), left.end())});
+    }
+    k = end;
+  }
+  for (int g = 0; g < int(groups.size()); ++g) {
+    groups[size_t(g)].prev = g - 1;
+    groups[size_t(g)].next = g + 1 < int(groups.size()) ? g + 1 : -1;
+  }
+
+  // Candidates between neighbouring groups of different lists, smallest (difference, a, b) on top.
+  // An entry is stale once either group moved on (the indices it names are no longer the heads).
+  struct Candidate {
+    double diff;
+    int i, j;          // indices into a and b
+    int group_a, group_b;
+    bool operator>(const Candidate& o) const { return std::tie(diff, i, j) > std::tie(o.diff, o.i, o.j); }
+  };
+  std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> heap;
+  const auto offer = [&](int left, int right) {
+    if (left < 0 || right < 0) return;
+    const Group &l = groups[size_t(left)], &r = groups[size_t(right)];
+    if (l.list == r.list || l.empty() || r.empty()) return;
+    const Group& ga = l.list == 0 ? l : r;
+    const Group& gb = l.list == 0 ? r : l;
+    const double diff = std::abs(ga.t - gb.t);  // as the script: |a - (b + offset)|
+    if (diff < max_difference_s)
+      heap.push({diff, ga.indices[ga.head], gb.indices[gb.head], l.list == 0 ? left : right, l.list == 0 ? right : left});
+  };
+  for (int g = 0; g + 1 < int(groups.size()); ++g) offer(g, g + 1);
+  // A group that ran out leaves the list, and its neighbours become adjacent.
+  const auto advance = [&](int g) {
+    Group& group = groups[size_t(g)];
+    ++group.head;
+    if (!group.empty()) {
+      offer(group.prev, g);
+      offer(g, group.next);
+      return;
+    }
+    if (group.prev >= 0) groups[size_t(group.prev)].next = group.next;
+    if (group.next >= 0) groups[size_t(group.next)].prev = group.prev;
+    offer(group.prev, group.next);
+  };
+  while (!heap.empty()) {
+    const Candidate c = heap.top();
+    heap.pop();
+    const Group &ga = groups[size_t(c.group_a)], &gb = groups[size_t(c.group_b)];
+    if (ga.empty() || gb.empty() || ga.indices[ga.head] != c.i || gb.indices[gb.head] != c.j) continue;
+    if (ga.next != c.group_b && ga.prev != c.group_b) continue;  // no longer neighbours
+    matches.emplace_back(c.i, c.j);
+    advance(c.group_a);
+    advance(c.group_b);
   }
   std::sort(matches.begin(), matches.end());
   return matches;
@@ -126,6 +212,7 @@ AteResult computeAte(const Trajectory& estimate, const Trajectory& ground_truth,
   std::vector<double> residual_m(static_cast<size_t>(n));
   for (int k = 0; k < n; ++k) residual_m[size_t(k)] = (R * est.col(k) + t - gt.col(k)).norm();
   const Stats s = statistics(residual_m);
+  requireFinite({s.rmse, s.mean, s.median, s.max}, "the ATE");
   AteResult r;
   r.pairs = n;
   r.rmse_m = s.rmse;
@@ -137,6 +224,17 @@ AteResult computeAte(const Trajectory& estimate, const Trajectory& ground_truth,
   r.T_gt_est.linear() = R;
   r.T_gt_est.translation() = t;
   return r;
+}
+
+void requirePlausiblePositions(const Trajectory& trajectory, const std::string& source) {
+  for (size_t i = 0; i < trajectory.size(); ++i) {
+    const Eigen::Vector3d t = trajectory[i].T_world_cam.translation();
+    if (t.allFinite() && t.cwiseAbs().maxCoeff() <= kMaxPlausiblePosition_m) continue;
+    char text[160];
+    std::snprintf(text, sizeof text, "pose %zu (t = %.6f) is at (%g, %g, %g) m, not a camera position (beyond %g m)",
+                  i + 1, trajectory[i].timestamp, t.x(), t.y(), t.z(), kMaxPlausiblePosition_m);
+    throw Error(source + ": " + text);
+  }
 }
 
 void requireDistinctTimestamps(const Trajectory& trajectory, const std::string& source) {
@@ -178,6 +276,7 @@ RpeResult computeRpe(const Trajectory& estimate_in, const Trajectory& ground_tru
     throw Error("RPE needs at least 3 frame pairs " + std::to_string(delta_frames) +
                 " frame(s) apart with ground truth, found " + std::to_string(trans_m.size()));
   const Stats t = statistics(trans_m), r = statistics(rot_deg);
+  requireFinite({t.rmse, t.mean, t.median, t.max, r.rmse, r.mean, r.median, r.max}, "the RPE");
   RpeResult out;
   out.pairs = int(trans_m.size());
   out.delta_frames = delta_frames;

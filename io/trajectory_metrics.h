@@ -35,10 +35,18 @@ struct AteResult {
   double rmse_m = 0, mean_m = 0, median_m = 0, std_m = 0, min_m = 0, max_m = 0;
   Pose T_gt_est = Pose::Identity();  // the alignment: ground truth ~ T_gt_est * estimate
 };
-// Throws vf::Error when fewer than 3 poses associate (the alignment is then undetermined).
+// Throws vf::Error when fewer than 3 poses associate (the alignment is then undetermined), and
+// when the result is not finite (positions beyond kMaxPlausiblePosition_m).
 // Throws vf::Error naming `source` and the time when two poses share a timestamp: TUM's tools
 // would pair either with the ground truth, and RPE's steps would be zero or doubled.
 void requireDistinctTimestamps(const Trajectory& trajectory, const std::string& source);
+
+// Farther from its origin than this (a million kilometres) a position is no camera's: squares
+// and sums of such numbers overflow, and "inf cm" was printed as a result.
+constexpr double kMaxPlausiblePosition_m = 1e9;
+// Throws vf::Error naming `source`, the pose and its timestamp when a position is not finite or
+// lies farther than kMaxPlausiblePosition_m from the origin.
+void requirePlausiblePositions(const Trajectory& trajectory, const std::string& source);
 
 AteResult computeAte(const Trajectory& estimate, const Trajectory& ground_truth,
                      double max_difference_s = kTumMaxTimeDifference_s);
@@ -53,7 +61,7 @@ struct RpeResult {
   double trans_rmse_m = 0, trans_mean_m = 0, trans_median_m = 0, trans_max_m = 0;
   double rot_rmse_deg = 0, rot_mean_deg = 0, rot_median_deg = 0, rot_max_deg = 0;
 };
-// Throws vf::Error when fewer than 3 pairs remain or delta_frames < 1.
+// Throws vf::Error when fewer than 3 pairs remain, delta_frames < 1 or the result is not finite.
 RpeResult computeRpe(const Trajectory& estimate, const Trajectory& ground_truth, int delta_frames = 1);
 
 }  // namespace vf

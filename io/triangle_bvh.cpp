@@ -4,8 +4,10 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
+#include <tuple>
 
 #include "core/error.h"
 
@@ -45,7 +47,21 @@ Vec3f closestPointOnTriangle(Vec3f p, Vec3f a, Vec3f b, Vec3f c) {
   if (vb <= 0.f && d2 >= 0.f && d6 <= 0.f) return a + ac * (d2 / (d2 - d6));
   const float va = d3 * d6 - d5 * d4;
   if (va <= 0.f && (d4 - d3) >= 0.f && (d5 - d6) >= 0.f) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-  const float denom = 1.f / (va + vb + vc);
+  const float sum = va + vb + vc;
+  if (!(sum > 0.f)) {
+    // A sliver whose area squared underflows: its edges are the surface (the face formula would
+    // divide by zero and return NaN).
+    const auto onSegment = [&p](Vec3f s, Vec3f e) {
+      const Vec3f d = e - s;
+      const float len2 = dot(d, d);
+      const float t = len2 > 0.f ? std::clamp(dot(p - s, d) / len2, 0.f, 1.f) : 0.f;
+      return s + d * t;
+    };
+    const std::array<Vec3f, 3> q{onSegment(a, b), onSegment(b, c), onSegment(c, a)};
+    const auto dist2 = [&p](Vec3f x) { return dot(p - x, p - x); };
+    return *std::min_element(q.begin(), q.end(), [&](Vec3f x, Vec3f y) { return dist2(x) < dist2(y); });
+  }
+  const float denom = 1.f / sum;
   return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
@@ -62,21 +78,57 @@ TriangleBvh::TriangleBvh(const TriangleMesh& mesh) {
     tris_.push_back(tri);
   }
   if (tris_.empty()) throw Error("mesh has no triangle with an area (a point cloud or an empty mesh)");
+  removeDuplicates();
   std::vector<Vec3f> centroids(tris_.size());
   std::vector<int> order(tris_.size());
+  float magnitude = 0;
   for (size_t i = 0; i < tris_.size(); ++i) {
     centroids[i] = (tris_[i].a + tris_[i].b + tris_[i].c) * (1.f / 3.f);
     order[i] = int(i);
+    for (const Vec3f& v : {tris_[i].a, tris_[i].b, tris_[i].c})
+      magnitude = std::max({magnitude, std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
   }
+  // Below a millionth of the coordinates' size a distance is float rounding: a point that close
+  // to a triangle lies on the surface, and the search stops there instead of visiting every
+  // other triangle that passes as close (coplanar, overlapping faces).
+  on_surface2_ = (magnitude * 1e-6f) * (magnitude * 1e-6f);
   nodes_.reserve(2 * tris_.size() / kLeafTriangles + 2);
   nodes_.push_back({});
-  build(order, centroids, 0, 0, int(tris_.size()));
+  build(order, centroids, 0, 0, int(tris_.size()), 0);
   std::vector<Tri> sorted(tris_.size());
   for (size_t i = 0; i < order.size(); ++i) sorted[i] = tris_[size_t(order[i])];
   tris_ = std::move(sorted);
 }
 
-void TriangleBvh::build(std::vector<int>& order, const std::vector<Vec3f>& centroids, int node, int begin, int end) {
+// A triangle given twice (in any corner order) is one surface: the copies would all land in one
+// leaf, which no split can divide, and every query near them would test each (one triangle
+// repeated 5,000 times took evaluate over a minute).
+void TriangleBvh::removeDuplicates() {
+  using Key = std::array<float, 9>;
+  const auto key = [](const Tri& t) {
+    std::array<Vec3f, 3> v{t.a, t.b, t.c};
+    std::sort(v.begin(), v.end(), [](Vec3f p, Vec3f q) {
+      return std::tie(p.x, p.y, p.z) < std::tie(q.x, q.y, q.z);
+    });
+    return Key{v[0].x, v[0].y, v[0].z, v[1].x, v[1].y, v[1].z, v[2].x, v[2].y, v[2].z};
+  };
+  std::vector<std::pair<Key, uint32_t>> keys(tris_.size());
+  for (size_t i = 0; i < tris_.size(); ++i) keys[i] = {key(tris_[i]), uint32_t(i)};
+  std::sort(keys.begin(), keys.end());
+  std::vector<uint8_t> keep(tris_.size(), 0);
+  for (size_t i = 0; i < keys.size(); ++i)
+    if (i == 0 || keys[i].first != keys[i - 1].first) keep[keys[i].second] = 1;
+  size_t kept = 0;
+  for (size_t i = 0; i < tris_.size(); ++i)
+    if (keep[i]) tris_[kept++] = tris_[i];
+  tris_.resize(kept);
+}
+
+// Splits at the median centroid along the widest centroid axis; triangles whose centroids all
+// coincide (distinct triangles about one point) are split by count. Either way each child holds
+// half the triangles, so the depth stays below log2(n) + 1 and the build always ends.
+void TriangleBvh::build(std::vector<int>& order, const std::vector<Vec3f>& centroids, int node, int begin, int end,
+                        int depth) {
   Vec3f lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
   Vec3f clo = lo, chi = hi;
   for (int i = begin; i < end; ++i) {
@@ -88,23 +140,26 @@ void TriangleBvh::build(std::vector<int>& order, const std::vector<Vec3f>& centr
   }
   nodes_[size_t(node)].lo = lo;
   nodes_[size_t(node)].hi = hi;
-  const Vec3f extent = chi - clo;
-  if (end - begin <= kLeafTriangles || std::max({extent.x, extent.y, extent.z}) <= 0.f) {
+  if (end - begin <= kLeafTriangles) {
     nodes_[size_t(node)].first = begin;
     nodes_[size_t(node)].count = end - begin;
     return;
   }
-  const int k = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
+  if (depth + 1 >= kMaxDepth) throw Error("triangle hierarchy deeper than " + std::to_string(kMaxDepth) + " levels");
+  const Vec3f extent = chi - clo;
   const int mid = begin + (end - begin) / 2;
-  std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end,
-                   [&](int a, int b) { return axis(centroids[size_t(a)], k) < axis(centroids[size_t(b)], k); });
+  if (std::max({extent.x, extent.y, extent.z}) > 0.f) {
+    const int k = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
+    std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end,
+                     [&](int a, int b) { return axis(centroids[size_t(a)], k) < axis(centroids[size_t(b)], k); });
+  }
   const int left = int(nodes_.size());
   nodes_.push_back({});
   nodes_.push_back({});
   nodes_[size_t(node)].first = left;
   nodes_[size_t(node)].count = 0;
-  build(order, centroids, left, begin, mid);
-  build(order, centroids, left + 1, mid, end);
+  build(order, centroids, left, begin, mid, depth + 1);
+  build(order, centroids, left + 1, mid, end, depth + 1);
 }
 
 float TriangleBvh::distance(Vec3f p, float max_distance_m) const {
@@ -120,7 +175,7 @@ float TriangleBvh::nearest(Vec3f p, float bound2) const {
     int node;
     float d2;
   };
-  Entry stack[64];
+  Entry stack[2 * kMaxDepth];
   int top = 0;
   stack[top++] = {0, boxDistance2(p, nodes_[0].lo, nodes_[0].hi)};
   while (top > 0) {
@@ -134,13 +189,13 @@ float TriangleBvh::nearest(Vec3f p, float bound2) const {
         const float d2 = dot(d, d);
         if (d2 < best2) best2 = d2, found = true;
       }
+      if (found && best2 <= on_surface2_) break;  // on the surface: nothing can be nearer by more than rounding
       continue;
     }
     // The nearer child is pushed last, visited first, so that the other is usually pruned.
     const Node& l = nodes_[size_t(node.first)];
     const Node& r = nodes_[size_t(node.first + 1)];
     const float dl = boxDistance2(p, l.lo, l.hi), dr = boxDistance2(p, r.lo, r.hi);
-    if (top + 2 > 64) throw Error("triangle hierarchy deeper than 64 levels");
     if (dl < dr) {
       if (dr < best2) stack[top++] = {node.first + 1, dr};
       if (dl < best2) stack[top++] = {node.first, dl};

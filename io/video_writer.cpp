@@ -1,5 +1,7 @@
 #include "io/video_writer.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 
@@ -18,6 +20,18 @@ struct VideoWriter::Impl {
   std::unique_ptr<VideoSink> writer;
   bool closed = false;
 };
+
+void requireVideoWritable(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  if (ext != ".mp4") throw Error(path + ": a video is written as MP4; name it .mp4");
+  AtomicFile probe(path);  // removed again: only whether a writer opens is asked
+  const std::unique_ptr<VideoSink> sink = openCvPlugin(path + ": writing a video").openMp4(probe.tempPath(), 64, 64, 30);
+  if (!sink)
+    throw Error(path + ": this vdbfuse's OpenCV cannot write an MP4 video (mp4v through FFmpeg); leave out the "
+                       "video (the PNG renders need no codec)");
+  sink->release();
+}
 
 VideoWriter::VideoWriter(const std::string& path, int width, int height, double fps)
     : impl_(std::make_unique<Impl>(path)) {

@@ -8,6 +8,10 @@
 
 namespace vf {
 
+// Throws vf::Error naming `path` unless it ends in .mp4 and this build's OpenCV can write an MP4
+// (mp4v, through FFmpeg) there: a run checks before its work, not at its first frame.
+void requireVideoWritable(const std::string& path);
+
 class VideoWriter {
  public:
   VideoWriter(const std::string& path, int width, int height, double fps);

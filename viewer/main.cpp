@@ -77,7 +77,7 @@ int main(int argc, char** argv) {
   app.add_option("--trajectory", o.trajectory_path, "TUM trajectory to draw (default: the scene's stem + .txt)");
   app.add_flag("--no-trajectory", no_trajectory, "do not draw the trajectory");
   app.add_option("--frustum-every", o.frustum_every, "a camera frustum every N poses (default: about 20 in all)")
-      ->check(CLI::PositiveNumber);
+      ->check(vf::app::atLeast(1));
   app.add_option("--screenshot", o.screenshot_path, "render offscreen to this .png or .jpg and exit (needs X: xvfb-run -a)");
   app.add_flag("-f,--force", force, "overwrite an existing --screenshot file");
   app.add_option("--size", size, "window / picture size WIDTHxHEIGHT (default 1280x720)");
@@ -93,6 +93,7 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"tsdf", "weight"}))
       ->capture_default_str();
   app.add_option("--min-weight", o.min_weight, "treat voxels observed fewer times as unobserved")->capture_default_str();
+  vf::app::requireFiniteNumbers(app);
   try {
     app.parse(argc, argv);
     if (!size.empty()) parseWindowSize(size, o.width, o.height);

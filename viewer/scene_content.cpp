@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <future>
@@ -71,10 +72,36 @@ void buildParts(SceneContent& c, TriangleMesh mesh) {
   }
 }
 
+// A camera saw the scene from a few metres: one farther from the surface's box than this did
+// not. Framed or drawn, such a pose shrinks the scene to nothing (1e30 m away: a blank picture,
+// depth precision spent on the empty distance).
+double farthestPlausibleCamera_m(const SceneContent& c) {
+  const Vec3f extent = c.surface_max_m - c.surface_min_m;
+  return std::max(1000.0, 10.0 * double(norm(extent)));
+}
+
+// Throws vf::Error naming `path` and the first pose that no camera of this scene can have had.
+void requireCamerasNearScene(const SceneContent& c, const Trajectory& trajectory, const std::string& path) {
+  const double limit_m = farthestPlausibleCamera_m(c);
+  for (size_t i = 0; i < trajectory.size(); ++i) {
+    const Eigen::Vector3d t = trajectory[i].T_world_cam.translation();
+    const Eigen::Vector3d lo(c.surface_min_m.x, c.surface_min_m.y, c.surface_min_m.z),
+        hi(c.surface_max_m.x, c.surface_max_m.y, c.surface_max_m.z);
+    const double away_m = (t.cwiseMax(lo).cwiseMin(hi) - t).norm();  // 0 inside the box
+    if (std::isfinite(away_m) && away_m <= limit_m) continue;
+    char text[200];
+    std::snprintf(text, sizeof text, "pose %zu is at (%.4g, %.4g, %.4g) m, %.3g m from the scene's surface (at most "
+                  "%.0f m for a camera that saw it): not this scene's trajectory",
+                  i, t.x(), t.y(), t.z(), away_m, limit_m);
+    throw Error(path + ": " + text);
+  }
+}
+
 void loadTrajectory(SceneContent& c, const std::string& path, bool load) {
   if (!load) return;
   if (!path.empty()) {  // asked for by name: failing to read it is an error
     c.trajectory = readTumTrajectory(path);
+    requireCamerasNearScene(c, c.trajectory, path);
     c.trajectory_path = path;
     return;
   }
@@ -84,7 +111,9 @@ void loadTrajectory(SceneContent& c, const std::string& path, bool load) {
     return;
   }
   try {
-    c.trajectory = readTumTrajectory(beside);
+    Trajectory trajectory = readTumTrajectory(beside);
+    requireCamerasNearScene(c, trajectory, beside);
+    c.trajectory = std::move(trajectory);
     c.trajectory_path = beside;
   } catch (const Error& e) {  // a stray .txt beside the scene should not stop the viewer
     c.notices.push_back(std::string("trajectory not shown: ") + e.what());

@@ -6,6 +6,7 @@
 
 #include "app/command_registry.h"
 #include "app/output_policy.h"
+#include "app/usage_errors.h"
 #include "core/error.h"
 #include "io/record3d_export.h"
 #include "io/tum_writer.h"
@@ -67,9 +68,9 @@ void setupConvertCommand(CLI::App& root) {
   cmd->add_option("--min-confidence", options->min_confidence,
                   "drop depth whose ARKit confidence (0 low, 1 medium, 2 high) is below this")
       ->capture_default_str()
-      ->check(CLI::Range(0, 2));
+      ->check(inRange(0, 2));
   cmd->add_option("--max-frames", options->max_frames, "convert only the first N frames")
-      ->check(CLI::PositiveNumber);
+      ->check(atLeast(1));
   cmd->add_flag("-f,--force", options->force, "replace an existing output folder, with everything in it");
   cmd->callback([options] { runConvert(*options); });
 }

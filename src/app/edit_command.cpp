@@ -113,10 +113,11 @@ void setupEditCommand(CLI::App& root) {
   cmd->add_option("--min-component", o->min_component,
                   "with --remove-outliers: smallest surface piece kept, in triangles")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(atLeast(0));
   cmd->add_option("--outlier-min-weight", o->outlier_min_weight, "with --remove-outliers: least observations kept")
-      ->capture_default_str();
-  cmd->add_option("--smooth", o->smooth, "iterations of level-set mean-curvature smoothing")->check(CLI::Range(0, 100));
+      ->capture_default_str()
+      ->check(atLeast(0));
+  cmd->add_option("--smooth", o->smooth, "iterations of level-set mean-curvature smoothing")->check(inRange(0, 100));
   cmd->callback([o] { runEdit(*o); });
 }
 

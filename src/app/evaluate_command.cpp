@@ -36,6 +36,8 @@ void runTrajectoryEvaluation(const EvaluateOptions& o) {
   const Trajectory ground_truth = loadGroundTruth(gt_path, o.mesh.source);
   requireDistinctTimestamps(estimate, o.trajectory);
   requireDistinctTimestamps(ground_truth, gt_path);
+  requirePlausiblePositions(estimate, o.trajectory);
+  requirePlausiblePositions(ground_truth, gt_path);
   const AteResult ate = computeAte(estimate, ground_truth);
   const RpeResult rpe = computeRpe(estimate, ground_truth, o.delta_frames);
 
@@ -80,16 +82,16 @@ void setupEvaluateCommand(CLI::App& root) {
       ->check(existingPath());
   cmd->add_option("--delta", options->delta_frames, "RPE frame distance")
       ->capture_default_str()
-      ->check(CLI::Range(1, 1000000));
+      ->check(inRange(1, 1000000));
   cmd->add_option("--mesh", options->mesh.mesh, "reconstructed mesh (PLY, e.g. from vdbfuse mesh)")->check(existingFile());
   cmd->add_option("--reference", options->mesh.reference, "ground-truth mesh (PLY)")->check(existingFile());
   cmd->add_option("--max-distance", options->mesh.threshold_m,
                   "metres: a point within this of the other surface counts for completion and the F-score")
       ->capture_default_str()
-      ->check(CLI::Range(1e-5, 10.0));
+      ->check(inRange(1e-5, 10.0));
   cmd->add_option("--samples", options->mesh.samples, "points sampled on each mesh (area-weighted)")
       ->capture_default_str()
-      ->check(CLI::Range(size_t(1000), size_t(100000000)));
+      ->check(inRange(1000, 100000000));
   cmd->add_option("--align", options->mesh.align,
                   "how the mesh is brought into the reference's frame with --trajectory and ground truth: ate (the "
                   "ATE's rigid alignment), first (first pose onto its ground truth), none, or auto (ate unless the "

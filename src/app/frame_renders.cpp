@@ -44,6 +44,8 @@ ColorImage composeRenderPanel(const RgbdFrame& frame, const Prediction& predicti
 RenderOutputs::RenderOutputs(std::string folder, std::string video)
     : folder_(std::move(folder)), video_path_(std::move(video)) {
   if (!folder_.empty()) std::filesystem::create_directories(folder_);
+  // Whether a video can be written is known now, not after the first frame's work.
+  if (!video_path_.empty()) requireVideoWritable(video_path_);
 }
 
 void RenderOutputs::add(int index, const RgbdFrame& frame, Pipeline& pipeline) {

@@ -9,6 +9,7 @@
 
 #include "app/command_registry.h"
 #include "app/field_flags.h"
+#include "app/memory_check.h"
 #include "app/run_control.h"
 #include "app/usage_errors.h"
 #include "core/error.h"
@@ -36,7 +37,8 @@ int runCommandLine(CLI::App& app, int argc, char** argv) {
     report("error", e.what());
     return 1;
   } catch (const std::bad_alloc&) {
-    report("error", "out of memory (an input states sizes this machine cannot hold)");
+    const std::vector<CLI::App*> parsed = app.get_subcommands();
+    report("error", vf::app::outOfMemoryMessage(parsed.empty() ? "" : parsed.front()->get_name()));
     return 1;
   } catch (const std::exception& e) {
     report("internal error", e.what());
@@ -54,6 +56,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", VDBFUSE_VERSION_STRING);
   app.require_subcommand(1);
   vf::app::setupAllCommands(app);
+  vf::app::requireFiniteNumbers(app);  // every float option of every command, reconstruct's too
   const int status = runCommandLine(app, argc, argv);
   vf::app::awaitSignalTermination();  // a signal that came while the command ended decides the status
   return status;

@@ -15,6 +15,13 @@ std::string gib(uint64_t bytes) {
 
 }  // namespace
 
+std::string outOfMemoryMessage(const std::string& command) {
+  if (command == "reconstruct")
+    return "out of memory; fusing needs less with larger voxels (raise --voxel-size-m), a shorter range (lower "
+           "--max-depth-m) or fewer frames (--max-frames); or free memory, or raise the limit (ulimit -v)";
+  return "out of memory (an input states sizes this machine cannot hold)";
+}
+
 void checkFitsGpu(uint64_t needed_bytes, const GpuMemory& gpu, const std::string& description) {
   if (needed_bytes <= gpu.free_bytes) return;
   throw Error(description + " needs " + gib(needed_bytes) + " of GPU memory to start, the GPU has " +

@@ -17,4 +17,9 @@ struct GpuMemory {
 // sizes and what to do instead.
 void checkFitsGpu(uint64_t needed_bytes, const GpuMemory& gpu, const std::string& description);
 
+// What a command that ran out of host memory (std::bad_alloc) tells the user: for reconstruct,
+// the options that lower what it needs; for the others, that an input asks for more than the
+// machine holds. `command` is the command's name ("" when none was parsed).
+std::string outOfMemoryMessage(const std::string& command);
+
 }  // namespace vf::app

@@ -39,6 +39,14 @@ void claimMeshFile(OutputPolicy& outputs, const std::string& path, const std::st
     outputs.file(fs::path(path).replace_extension(".mtl").string(), option + " (its .mtl)");
 }
 
+// Removes the pieces of `mesh` under min_component triangles and says how many went.
+void dropSmallPieces(TriangleMesh& mesh, size_t min_component, const std::string& prefix) {
+  const ComponentStats before = meshComponents(mesh, min_component);
+  const size_t removed = removeSmallComponents(mesh, min_component);
+  std::printf("%sremoved %zu triangles in %zu of %zu pieces (those under %zu triangles)\n", prefix.c_str(), removed,
+              before.small, before.pieces, min_component);
+}
+
 double secondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -73,13 +81,9 @@ void runMesh(const MeshCommandOptions& o) {
     std::printf("%s %s: %zu triangles removed\n", include ? "kept only" : "excluded",
                 classNames(scene.meta.classes, ids).c_str(), before - mesh.triangleCount());
   }
-  if (o.min_component > 1) {
-    const size_t min_component = size_t(o.min_component);
-    const ComponentStats before = meshComponents(mesh, min_component);
-    const size_t removed = removeSmallComponents(mesh, min_component);
-    std::printf("removed %zu triangles in %zu of %zu pieces (those under %zu triangles)\n", removed, before.small,
-                before.pieces, min_component);
-  }
+  // --per-class counts the pieces of each class mesh, after the split: a piece of the whole
+  // surface spans several classes, and its part in one class can be a sliver.
+  if (o.min_component > 1 && !o.per_class) dropSmallPieces(mesh, size_t(o.min_component), "");
   if (mesh.triangles.empty()) throw Error(o.output + ": nothing left to write (empty mesh)");
   const Rigid3f to_file = exportRotationFor(scene, o.scene, axes);
   transformMesh(mesh, to_file);
@@ -100,7 +104,22 @@ void runMesh(const MeshCommandOptions& o) {
   // moved into place together once every one is whole.
   const fs::path out(o.output);
   const fs::path folder = out.has_parent_path() ? out.parent_path() : fs::path(".");
-  const std::map<int32_t, TriangleMesh> parts = splitByClass(mesh);
+  std::map<int32_t, TriangleMesh> parts = splitByClass(mesh);
+  if (o.min_component > 1) {
+    for (auto it = parts.begin(); it != parts.end();) {
+      const ClassInfo* info = scene.meta.classes.findId(it->first);
+      const std::string name = info ? info->name : "unknown";
+      dropSmallPieces(it->second, size_t(o.min_component), name + ": ");
+      if (it->second.triangles.empty()) {
+        std::printf("%s: every piece is under %lld triangles; no mesh written\n", name.c_str(),
+                    static_cast<long long>(o.min_component));
+        it = parts.erase(it);
+      } else {
+        ++it;
+      }
+    }
+    if (parts.empty()) throw Error(o.output + ": nothing left to write (every class mesh is under --min-component)");
+  }
   std::vector<int32_t> part_ids;
   for (const auto& [id, part] : parts) part_ids.push_back(id);
   const std::map<int32_t, std::string> stems = uniqueClassFileStems(scene.meta.classes, part_ids);

@@ -1,6 +1,7 @@
 #include "app/mesh_evaluation.h"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
@@ -87,11 +88,15 @@ void runMeshEvaluation(const MeshEvaluationOptions& o) {
   alignment.description = "none (no --trajectory: the mesh is taken to be in the reference's frame)";
   if (!o.trajectory.empty()) {
     estimate = readTumTrajectory(o.trajectory);
+    requirePlausiblePositions(estimate, o.trajectory);
     const std::string gt_path = !o.groundtruth.empty() ? o.groundtruth : o.dataset;
-    if (!gt_path.empty())
-      alignment = alignTrajectory(estimate, loadGroundTruth(gt_path, o.source), parseAlignmentMethod(o.align));
-    else
+    if (!gt_path.empty()) {
+      const Trajectory ground_truth = loadGroundTruth(gt_path, o.source);
+      requirePlausiblePositions(ground_truth, gt_path);
+      alignment = alignTrajectory(estimate, ground_truth, parseAlignmentMethod(o.align));
+    } else {
       alignment.description = "none (no --groundtruth or --dataset: the trajectory is taken to be in the reference's frame)";
+    }
   }
   reconstruction = transformMesh(reconstruction, alignment.T_gt_est);
 
@@ -122,6 +127,12 @@ void runMeshEvaluation(const MeshEvaluationOptions& o) {
   const TriangleBvh ref_surface(reference), rec_surface(reconstruction);
   const SurfaceMetrics m =
       surfaceMetrics(ref_surface.distances(rec_points), rec_surface.distances(ref_points), o.threshold_m);
+  // A figure that is not finite is no result (a mesh whose coordinates overflow on the way).
+  for (const double v : {m.accuracy_median_m, m.accuracy_mean_m, m.completion_median_m, m.completion_mean_m, m.fscore})
+    if (!std::isfinite(v))
+      throw Error(o.mesh + " against " + o.reference +
+                  ": the distances are not finite (coordinates too large to compare, or no point near the other "
+                  "surface)");
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   std::printf("reconstruction  %s (%zu triangles, %zu points sampled; %s)\n", o.mesh.c_str(),

@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "app/output_policy.h"
+#include "app/usage_errors.h"
 #include "core/error.h"
 #include "io/class_table_io.h"
 
@@ -30,7 +31,7 @@ void addReconstructOptions(CLI::App& cmd, ReconstructOptions& o) {
                  "KinectFusion: the finest detail, and the sensor's noise)")
       ->capture_default_str();
   cmd.add_option("--volume-size", o.volume_size)->group("");  // removed: says so
-  cmd.add_option("--max-frames", o.max_frames, "Fuse at most this many frames")->check(CLI::PositiveNumber);
+  cmd.add_option("--max-frames", o.max_frames, "Fuse at most this many frames")->check(atLeast(1));
   cmd.add_option("--device", o.device, "cpu, cuda or auto (CUDA when a GPU is usable)")->capture_default_str();
   cmd.add_option("--poses", o.poses, "icp, given (recorded poses, in their own world frame) or given+icp")
       ->capture_default_str();
@@ -109,6 +110,7 @@ void claimOutputs(const ReconstructOptions& o) {
   }
   // A resumed run replaces the interrupted run's outputs: they are its own.
   if (!o.output.empty()) OutputPolicy::requireExtension(o.output, {".vdb"}, "-o");
+  if (!o.video.empty()) OutputPolicy::requireExtension(o.video, {".mp4"}, "--video");
   OutputPolicy outputs(o.force || o.resume);
   outputs.input(o.dataset);
   if (!o.labels_dir.empty()) outputs.input(o.labels_dir);

@@ -1,8 +1,13 @@
 #include "app/usage_errors.h"
 
 #include <algorithm>
+#include <cfloat>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <functional>
+#include <optional>
 
 #include "core/similar_names.h"
 
@@ -49,7 +54,64 @@ std::vector<std::string> unknownWords(const std::vector<std::string>& words, con
   return lines;
 }
 
+// The value of a numeric option as strtold reads it (as CLI11 does: hex, "nan", "inf" too), or
+// nullopt when it is not a number at all (CLI11's own conversion then says so).
+std::optional<long double> numberIn(const std::string& text) {
+  if (text.empty()) return std::nullopt;
+  char* end = nullptr;
+  const long double v = std::strtold(text.c_str(), &end);
+  if (end != text.c_str() + text.size()) return std::nullopt;
+  return v;
+}
+
+std::string shortNumber(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", v);
+  return text;
+}
+
+// Why `v` (read from `text`) is no value for a float option, or "" when it is one: a value
+// beyond FLT_MAX becomes inf on conversion.
+std::string notAFloat(long double v, const std::string& text) {
+  if (!std::isfinite(v)) return "must be a finite number, got " + text;
+  if (std::fabs(v) > FLT_MAX) return "must be at most 3.4e+38 in size, got " + text;
+  return "";
+}
+
+CLI::Validator bound(std::function<bool(long double)> ok, const std::string& rule, const std::string& name) {
+  return CLI::Validator(
+      [ok, rule](std::string& text) -> std::string {
+        const std::optional<long double> v = numberIn(text);
+        if (!v) return "";
+        const std::string why = notAFloat(*v, text);
+        if (!why.empty()) return why;
+        return ok(*v) ? "" : "must be " + rule + ", got " + text;
+      },
+      rule, name);
+}
+
 }  // namespace
+
+CLI::Validator atLeast(double min) {
+  return bound([min](long double v) { return v >= min; }, "at least " + shortNumber(min), "AT_LEAST");
+}
+
+CLI::Validator inRange(double min, double max) {
+  return bound([min, max](long double v) { return v >= min && v <= max; },
+               "between " + shortNumber(min) + " and " + shortNumber(max), "IN_RANGE");
+}
+
+void requireFiniteNumbers(CLI::App& app) {
+  const CLI::Validator finite_number(
+      [](std::string& text) -> std::string {
+        const std::optional<long double> v = numberIn(text);
+        return v ? notAFloat(*v, text) : "";
+      },
+      "", "FINITE");
+  for (CLI::Option* option : app.get_options())
+    if (option->get_type_name().rfind("FLOAT", 0) == 0) option->check(finite_number);
+  for (CLI::App* command : app.get_subcommands({})) requireFiniteNumbers(*command);
+}
 
 int reportParseError(CLI::App& root, const CLI::ParseError& error, const std::string& program) {
   if (error.get_exit_code() == 0) return root.exit(error);  // --help, --version

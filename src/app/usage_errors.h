@@ -20,4 +20,15 @@ int reportParseError(CLI::App& root, const CLI::ParseError& error, const std::st
 CLI::Validator existingFile();
 CLI::Validator existingPath();
 
+// Numeric bounds with messages a user reads ("--max-frames: must be at least 1, got 0"), for
+// CLI11's Range / PositiveNumber / NonNegativeNumber, which print their bounds with
+// std::to_string (a 309-digit number for "no upper bound") and let NaN through every range.
+CLI::Validator atLeast(double min);
+CLI::Validator inRange(double min, double max);
+
+// Adds to every floating-point option of `app` and its commands a check that refuses a value
+// that is not a finite number ("nan", "inf", 1e400): NaN passes every comparison, so it slipped
+// past every range check into the library. Call once, after the options are set up.
+void requireFiniteNumbers(CLI::App& app);
+
 }  // namespace vf::app

@@ -18,6 +18,24 @@ std::string trimmed(const std::string& s) {
 
 }  // namespace
 
+void ClassTable::requireUnique(const std::string& source) const {
+  std::vector<const ClassInfo*> by_id;
+  for (const ClassInfo& c : classes) {
+    if (c.name.empty()) throw Error(source + ": class " + std::to_string(c.id) + " has an empty name");
+    by_id.push_back(&c);
+  }
+  std::stable_sort(by_id.begin(), by_id.end(), [](const ClassInfo* a, const ClassInfo* b) { return a->id < b->id; });
+  for (size_t i = 1; i < by_id.size(); ++i)
+    if (by_id[i - 1]->id == by_id[i]->id)
+      throw Error(source + ": class id " + std::to_string(by_id[i]->id) + " appears twice ('" + by_id[i - 1]->name +
+                  "' and '" + by_id[i]->name + "')");
+  std::stable_sort(by_id.begin(), by_id.end(), [](const ClassInfo* a, const ClassInfo* b) { return a->name < b->name; });
+  for (size_t i = 1; i < by_id.size(); ++i)
+    if (by_id[i - 1]->name == by_id[i]->name)
+      throw Error(source + ": class name '" + by_id[i]->name + "' appears twice (ids " + std::to_string(by_id[i - 1]->id) +
+                  " and " + std::to_string(by_id[i]->id) + ")");
+}
+
 std::string ClassTable::listing() const {
   std::string out;
   for (const ClassInfo& c : classes) out += (out.empty() ? "" : ", ") + c.name + " (" + std::to_string(c.id) + ")";

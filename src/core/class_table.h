@@ -36,6 +36,10 @@ struct ClassTable {
   std::vector<int> resolve(const std::vector<std::string>& items, const std::string& what) const;
   // "person (1), chair (2)", or a note that the table is empty: for messages.
   std::string listing() const;
+  // Throws vf::Error starting with `source` when two classes share an id or a name, or a name is
+  // empty: a label would then mean two classes, and the faces of one land in the other's mesh.
+  // Every table read from outside (a class table file, a scene's metadata) goes through it.
+  void requireUnique(const std::string& source) const;
 };
 
 }  // namespace vf

@@ -1,8 +1,12 @@
 #include "fusion/checkpoint.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <map>
 #include <optional>
+#include <sstream>
+#include <tuple>
 #include <type_traits>
 
 #include "core/atomic_output.h"
@@ -68,6 +72,64 @@ uint32_t readCount(ByteReader& r, const std::string& what, uint64_t bytes_each) 
 }
 
 bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+// The checksum only shows that the file is as written, not that what was written makes sense (a
+// forged or buggy file with a NaN pose resumed and wrote a trajectory of nan). Every value read
+// is checked against what a run can produce, and the file is named when one is not.
+bool isRigid(const Pose& p) {
+  const Eigen::Matrix4d& m = p.matrix();
+  if (!m.allFinite() || m(3, 0) != 0 || m(3, 1) != 0 || m(3, 2) != 0 || m(3, 3) != 1) return false;
+  const Eigen::Matrix3d R = m.topLeftCorner<3, 3>();
+  // Poses are products of many rotations: rounding leaves them orthonormal to ~1e-12.
+  return (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-6 && R.determinant() > 0;
+}
+
+void requireRigid(const Pose& p, const std::string& what, const std::string& path) {
+  if (isRigid(p)) return;
+  std::ostringstream rows;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) rows << p.matrix()(r, c) << (c < 3 ? " " : r < 3 ? " / " : "");
+  throw Error("checkpoint " + path + ": " + what + " is not a rigid motion with finite numbers (rows " + rows.str() +
+              "); start the run again");
+}
+
+void requireSaneProgress(const PipelineState& s, const RunProgress& progress, const std::string& path) {
+  requireRigid(s.T_world_cam, "the current camera pose", path);
+  requireRigid(s.T_world_model, "the pose of the tracking prediction", path);
+  if (s.last_given_pose) requireRigid(*s.last_given_pose, "the last recorded pose", path);
+  const auto fail = [&path](const std::string& why) {
+    throw Error("checkpoint " + path + ": " + why + "; start the run again");
+  };
+  for (size_t i = 0; i < progress.trajectory.size(); ++i) {
+    const StampedPose& p = progress.trajectory[i];
+    if (!std::isfinite(p.timestamp)) fail("frame " + std::to_string(i) + " has a timestamp that is not finite");
+    requireRigid(p.T_world_cam, "the pose of frame " + std::to_string(i), path);
+  }
+  if (s.frames_lost < 0 || s.frames_lost > s.frames_processed)
+    fail(std::to_string(s.frames_lost) + " frames lost of " + std::to_string(s.frames_processed) + " processed");
+  if (progress.lost.size() > size_t(std::max(progress.frames_done, 0)))
+    fail(std::to_string(progress.lost.size()) + " lost-frame reports for " + std::to_string(progress.frames_done) +
+         " frames");
+}
+
+void requireSaneWindow(const Image<float>& window, const std::string& path) {
+  const size_t n = size_t(window.width()) * size_t(window.height());
+  for (size_t i = 0; i < n; ++i)
+    if (!(std::isfinite(window.data()[i]) && window.data()[i] >= 0.f))
+      throw Error("checkpoint " + path + ": the saved prediction window holds a depth of " +
+                  std::to_string(window.data()[i]) + " m; start the run again");
+}
+
+// Each brick once: a coordinate given twice would take two slots of the hash for one brick.
+void requireDistinctBricks(const HostBrickVolume& bricks, const std::string& path) {
+  std::vector<Vec3i> coords = bricks.coords;
+  const auto less = [](const Vec3i& a, const Vec3i& b) { return std::tie(a.x, a.y, a.z) < std::tie(b.x, b.y, b.z); };
+  std::sort(coords.begin(), coords.end(), less);
+  for (size_t i = 1; i < coords.size(); ++i)
+    if (!less(coords[i - 1], coords[i]))
+      throw Error("checkpoint " + path + ": brick (" + std::to_string(coords[i].x) + ", " + std::to_string(coords[i].y) +
+                  ", " + std::to_string(coords[i].z) + ") is saved twice; start the run again");
+}
 
 struct Header {
   RunSettings settings;
@@ -267,6 +329,8 @@ RunProgress readCheckpoint(const std::string& path, Pipeline& pipeline, const Ru
   s.last_motion = readPose(r);
   if (progress.frames_done < 0 || progress.frames_done != s.frames_processed)
     throw Error("checkpoint " + path + ": frame counts and trajectory disagree");
+  requireSaneProgress(s, progress, path);
+  if (s.prediction_windowed) requireSaneWindow(window, path);
 
   HostBrickVolume bricks;
   bricks.voxel_size_m = h.voxel_size_m;
@@ -277,12 +341,18 @@ RunProgress readCheckpoint(const std::string& path, Pipeline& pipeline, const Ru
   const uint32_t n = readCount(r, "brick", per_brick);
   bricks.resize(n);
   const size_t voxels = size_t(n) * kBrickVoxels;
-  std::memcpy(bricks.coords.data(), r.take(n * sizeof(Vec3i), "brick coordinates"), n * sizeof(Vec3i));
-  std::memcpy(bricks.tsdf.data(), r.take(voxels * sizeof(TsdfVoxel), "tsdf"), voxels * sizeof(TsdfVoxel));
-  std::memcpy(bricks.color.data(), r.take(voxels * sizeof(Rgb8), "colour"), voxels * sizeof(Rgb8));
-  if (h.with_classes)
-    std::memcpy(bricks.class_vote.data(), r.take(voxels * sizeof(uint32_t), "class votes"), voxels * sizeof(uint32_t));
+  // A run that fused nothing saves no brick: the empty arrays have no storage to copy into (a null
+  // pointer, which memcpy must not get even for 0 bytes).
+  const auto copy = [&r](void* dst, size_t bytes, const char* what) {
+    const uint8_t* src = r.take(bytes, what);
+    if (bytes > 0) std::memcpy(dst, src, bytes);
+  };
+  copy(bricks.coords.data(), n * sizeof(Vec3i), "brick coordinates");
+  copy(bricks.tsdf.data(), voxels * sizeof(TsdfVoxel), "tsdf");
+  copy(bricks.color.data(), voxels * sizeof(Rgb8), "colour");
+  if (h.with_classes) copy(bricks.class_vote.data(), voxels * sizeof(uint32_t), "class votes");
   if (!r.atEnd()) throw Error("checkpoint " + path + " has trailing bytes (written by another version?)");
+  requireDistinctBricks(bricks, path);
   try {
     pipeline.restore(s, bricks, window);
   } catch (const Error& e) {

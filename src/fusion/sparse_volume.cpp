@@ -1,10 +1,12 @@
 #include "fusion/sparse_volume.h"
 
 #include <sys/mman.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
+#include <cstdio>
 #include <cstring>
 #include <optional>
 #include <string>
@@ -22,23 +24,41 @@ namespace {
 constexpr uint32_t kInitialHashCapacity = 1u << 16;
 constexpr uint32_t kMaxHashCapacity = 1u << 30;
 constexpr int kInitialGpuPoolBricks = 1 << 14;  // 64 MiB without classes
+// The CPU pool starts as large (a few frames' bricks) and doubles in place as the scene grows.
+constexpr int kInitialHostPoolBricks = 1 << 14;
 // Slots are ints and voxel indices 64-bit: 2^26 bricks (34 G voxels) is far beyond any memory.
 constexpr int kMaxPoolBricks = 1 << 26;
 // Share of the memory available at start that the CPU pool may take (the scene conversion at
-// the end needs room too).
+// the end needs room too), and of the address space left under a limit (ulimit -v).
 constexpr double kHostMemoryShare = 0.6;
 
-// Bytes of memory available to this process now: MemAvailable, else the physical memory.
+// Bytes of memory available to this process now: MemAvailable, else the physical memory; under
+// an address-space limit (RLIMIT_AS) no more than the part of it not yet mapped, since every
+// mapping counts against it whether or not it is ever touched.
 uint64_t availableHostBytes() {
-  if (const std::optional<HostMemory> m = readHostMemory()) return m->available_bytes;
-  return uint64_t(sysconf(_SC_PHYS_PAGES)) * uint64_t(sysconf(_SC_PAGESIZE));
+  uint64_t bytes = 0;
+  if (const std::optional<HostMemory> m = readHostMemory()) bytes = m->available_bytes;
+  else bytes = uint64_t(sysconf(_SC_PHYS_PAGES)) * uint64_t(sysconf(_SC_PAGESIZE));
+  rlimit limit{};
+  if (getrlimit(RLIMIT_AS, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY) {
+    uint64_t mapped_pages = 0;
+    std::FILE* statm = std::fopen("/proc/self/statm", "r");
+    if (statm) {
+      unsigned long long pages = 0;
+      if (std::fscanf(statm, "%llu", &pages) == 1) mapped_pages = pages;
+      std::fclose(statm);
+    }
+    const uint64_t mapped = mapped_pages * uint64_t(sysconf(_SC_PAGESIZE));
+    bytes = std::min<uint64_t>(bytes, uint64_t(limit.rlim_cur) > mapped ? uint64_t(limit.rlim_cur) - mapped : 0);
+  }
+  return bytes;
 }
 
+// Anonymous private mappings read as zero and commit a page only on first write; null when the
+// address space is exhausted.
 void* reserveHost(size_t bytes) {
-  // Anonymous private mappings read as zero and commit a page only on first write.
   void* p = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
-  if (p == MAP_FAILED)
-    throw Error("volume: cannot reserve " + std::to_string(bytes >> 20) + " MiB of address space for the brick pool");
+  if (p == MAP_FAILED) return nullptr;
   // The raycast and the integration jump between bricks all over the pool: with 4 KiB pages
   // every brick cost a TLB miss, and the first write to each page a copy-on-write fault with a
   // TLB shootdown to the other cores (6 % of a room scan's time).
@@ -46,10 +66,19 @@ void* reserveHost(size_t bytes) {
   return p;
 }
 
+// A host mapping grown to `new_bytes`: the kernel moves its pages (no copy) where it cannot grow
+// in place, and the new part reads as zero. Null when the address space is exhausted.
+void* growHost(void* p, size_t old_bytes, size_t new_bytes) {
+  void* q = mremap(p, old_bytes, new_bytes, MREMAP_MAYMOVE);
+  if (q == MAP_FAILED) return nullptr;
+  adviseHugePages(q, new_bytes);
+  return q;
+}
+
 }  // namespace
 
-// The slot-major arrays. CPU: reserved once for pool_limit_ slots; CUDA: pool_capacity_ slots,
-// reallocated (with a copy of the slots in use) when they grow.
+// The slot-major arrays of pool_capacity_ slots. CPU: mappings grown in place (mremap: nothing
+// copied); CUDA: reallocated, with a copy of the slots in use, when they grow.
 struct SparseVolume::Pool {
   struct Array {
     void* ptr = nullptr;
@@ -75,15 +104,10 @@ struct SparseVolume::Pool {
     else munmap(a.ptr, a.bytes_per_slot * slots);
     a.ptr = nullptr;
   }
-  // CUDA: new arrays of `new_slots`, the first `used` slots copied; false when memory runs out.
+  // Arrays of `new_slots`, the first `used` slots kept; false (the old arrays kept) when memory
+  // runs out.
   bool resize(size_t new_slots, size_t used) {
-    if (device != Device::Cuda) {
-      if (slots != 0) return false;  // the host reservation is made once, at its full size
-      for (Array* a : arrays())
-        if (a->bytes_per_slot) a->ptr = reserveHost(a->bytes_per_slot * new_slots);
-      slots = new_slots;
-      return true;
-    }
+    if (device != Device::Cuda) return resizeHost(new_slots);
     std::array<void*, 4> fresh{};
     const std::array<Array*, 4> all = arrays();
     try {
@@ -102,6 +126,31 @@ struct SparseVolume::Pool {
       release(*all[i]);
       all[i]->ptr = fresh[i];
     }
+    slots = new_slots;
+    return true;
+  }
+  bool resizeHost(size_t new_slots) {
+    const std::array<Array*, 4> all = arrays();
+    std::array<void*, 4> grown{};
+    size_t i = 0;
+    for (; i < all.size(); ++i) {
+      const Array& a = *all[i];
+      if (!a.bytes_per_slot) continue;
+      grown[i] = a.ptr ? growHost(a.ptr, a.bytes_per_slot * slots, a.bytes_per_slot * new_slots)
+                       : reserveHost(a.bytes_per_slot * new_slots);
+      if (!grown[i]) break;
+    }
+    if (i < all.size()) {  // out of address space: every array back to its old size
+      for (size_t k = 0; k < i; ++k) {
+        Array& a = *all[k];
+        if (!grown[k]) continue;
+        if (!a.ptr) munmap(grown[k], a.bytes_per_slot * new_slots);
+        else a.ptr = mremap(grown[k], a.bytes_per_slot * new_slots, a.bytes_per_slot * slots, 0);  // shrinks in place
+      }
+      return false;
+    }
+    for (size_t k = 0; k < all.size(); ++k)
+      if (all[k]->bytes_per_slot) all[k]->ptr = grown[k];
     slots = new_slots;
     return true;
   }
@@ -129,11 +178,14 @@ SparseVolume::SparseVolume(const VolumeSpec& spec, bool with_classes, Device dev
     pool_limit_ = int(std::min<uint64_t>(uint64_t(double(availableHostBytes()) * kHostMemoryShare) / per_brick,
                                          kMaxPoolBricks));
   }
-  if (pool_limit_ < 1) throw Error("volume: no memory is left for a single brick");
-  const int initial = device_ == Device::Cuda ? std::min(kInitialGpuPoolBricks, pool_limit_) : pool_limit_;
+  if (pool_limit_ < 1)
+    throw Error("volume: no memory is left for a single brick; free memory, or raise the address-space limit (ulimit -v)");
+  const int initial =
+      std::min(device_ == Device::Cuda ? kInitialGpuPoolBricks : kInitialHostPoolBricks, pool_limit_);
   if (!pool_->resize(size_t(initial), 0))
     throw Error("volume: cannot allocate " + std::to_string((size_t(initial) * per_brick) >> 20) +
-                " MiB for the brick pool");
+                " MiB for the brick pool; free memory, or need less of it: raise VolumeSpec.voxel_size_m or lower "
+                "MeasurementParams.max_depth_m");
   pool_capacity_ = initial;
   counters_.allocate(device_, kCounters);
   allocateHash(kInitialHashCapacity);
@@ -214,6 +266,7 @@ bool SparseVolume::growPool(int needed) {
   target = std::min(target, size_t(pool_limit_));
   if (!pool_->resize(target, size_t(brick_count_))) {
     pool_limit_ = pool_capacity_;  // memory is exhausted: this is as large as the pool gets
+    refreshView();                 // a failed growth may still have moved some arrays (CPU)
     return false;
   }
   pool_capacity_ = int(target);
@@ -283,6 +336,7 @@ void SparseVolume::restore(const HostBrickVolume& bricks) {
     if (!brickCoordInRange(b)) throw Error("volume: a saved brick lies outside the volume's range");
   const size_t voxels = size_t(n) * kBrickVoxels;
   auto put = [&](void* dst, const void* src, size_t bytes) {
+    if (bytes == 0) return;  // no brick saved: the empty arrays' data() is null
     if (device_ == Device::Cuda) cuda::copyToDevice(dst, src, bytes);
     else std::memcpy(dst, src, bytes);
   };

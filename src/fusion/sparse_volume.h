@@ -3,9 +3,11 @@
 // coordinates, by slot), the spatial hash (fusion/brick_hash.h) and the per-frame brick lists,
 // and the policy by which they grow. Kernels see it through view().
 //
-// Pool memory: on the CPU one reservation sized from the machine's memory, committed page by page
-// as bricks are allocated (nothing is copied as the scene grows); on the GPU an allocation that
-// doubles, with a device-side copy, when a frame needs more bricks than it has. When memory runs
+// Pool memory: on the CPU mappings that double in place (mremap: nothing is copied as the scene
+// grows) and commit a page only when a brick first writes it, up to a share of the memory
+// available at start and of the address space an RLIMIT_AS leaves (reserving that share up front
+// failed a 3-frame job under ulimit -v); on the GPU an allocation that doubles, with a
+// device-side copy, when a frame needs more bricks than it has. When memory runs
 // out the pool stays full: bricks beyond it are not allocated and processFrame says so, so the
 // caller can stop and save what was fused (never a silent stop, never a crash).
 #include <cstddef>

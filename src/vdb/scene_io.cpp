@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <new>
 #include <stdexcept>
 #include <nlohmann/json.hpp>
 
@@ -95,6 +96,8 @@ ClassTable classesFromJson(const std::string& text, const std::string& path) {
   } catch (const nlohmann::json::exception& e) {
     throw Error(path + ": metadata '" + kMetaClasses + "' is not a valid class table: " + e.what());
   }
+  // Two classes with one id: the faces of one would be written into the other's mesh.
+  table.requireUnique(path + ": metadata '" + kMetaClasses + "'");
   return table;
 }
 
@@ -153,6 +156,8 @@ void writeVdbFileAtomic(const std::string& path, const openvdb::GridPtrVec& grid
     // libopenvdb's stream reports no write errors (a full disk leaves a short file): the file is
     // walked as a reader would before it may replace the target.
     checkVdbFileStructure(output.tempPath(), names);
+  } catch (const std::bad_alloc&) {
+    throw;  // out of memory, not of disk: the command says what lowers the need
   } catch (const std::exception& e) {
     throw Error(path + ": cannot write " + what + " (disk full?): " + e.what());
   }

@@ -15,6 +15,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <new>
 #include <sstream>
 #include <unordered_map>
 
@@ -226,6 +227,8 @@ size_t writeSceneFromBricks(const BrickVolumeView& v, const SceneMetadata& meta,
     file.close();
     if (!file || written < 0 || std::filesystem::file_size(output.tempPath()) != uintmax_t(written))
       throw Error("the data did not reach the disk whole");
+  } catch (const std::bad_alloc&) {
+    throw;  // out of memory, not of disk: the command says what lowers the need
   } catch (const std::exception& e) {
     throw Error(path + ": cannot write scene (disk full?): " + e.what());
   }

@@ -108,6 +108,46 @@ TEST(TriangleBvh, MeshWithoutAreaOrWithBadIndicesIsAnError) {
   EXPECT_NE(errorOf([&] { TriangleBvh b(m); }).find("vertex 7"), std::string::npos);
 }
 
+// Issue 35: one triangle given 5,000 times (in any corner order) is one surface. The copies shared
+// one leaf that no split could divide, and every query tested all of them: evaluate --mesh ran
+// for over a minute.
+TEST(TriangleBvh, ATriangleGivenManyTimesIsKeptOnce) {
+  TriangleMesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  for (int i = 0; i < 5000; ++i) {
+    const int base = 3 * (i % 2);  // the same corners through other vertices too
+    m.triangles.push_back({base + i % 3, base + (i + 1) % 3, base + (i + 2) % 3});
+  }
+  m.triangles.push_back({0, 2, 1});  // reversed winding: the same surface
+  const TriangleBvh bvh(m);
+  EXPECT_EQ(bvh.triangleCount(), 1u);
+  EXPECT_NEAR(bvh.distance({0.2f, 0.2f, 0.5f}), 0.5f, 1e-6);
+  EXPECT_NEAR(bvh.distance({2, 0, 0}), 1.f, 1e-6);
+}
+
+// Distinct triangles about one centroid (a fan of rotated copies): the centroid split has nothing
+// to split on, so the build splits by count; distances stay exact.
+TEST(TriangleBvh, TrianglesSharingACentroidAreStillSearchedExactly) {
+  TriangleMesh m;
+  for (int i = 0; i < 2000; ++i) {
+    const float a = 2.f * float(M_PI) * float(i) / 2000.f;
+    const Vec3f u{std::cos(a), std::sin(a), 0.f}, v{-std::sin(a), std::cos(a), 0.3f};
+    const int base = int(m.positions.size());
+    m.positions.push_back(u);
+    m.positions.push_back(v);
+    m.positions.push_back(Vec3f{0, 0, 0} - u - v);  // the centroid is the origin for every one
+    m.triangles.push_back({base, base + 1, base + 2});
+  }
+  const TriangleBvh bvh(m);
+  EXPECT_EQ(bvh.triangleCount(), 2000u);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-2, 2);
+  std::vector<Vec3f> points;
+  for (int i = 0; i < 200; ++i) points.push_back({u(rng), u(rng), u(rng)});
+  const std::vector<float> d = bvh.distances(points);
+  for (size_t i = 0; i < points.size(); ++i) ASSERT_NEAR(d[i], bruteForceDistance(m, points[i]), 1e-5) << i;
+}
+
 TEST(SurfaceSampling, IsAreaWeightedUniformAndDeterministic) {
   TriangleMesh two = squareMesh(1.f, 0.f, 1);  // 1 m^2 at z = 0
   const TriangleMesh big = squareMesh(2.f, 1.f, 1);  // 4 m^2 at z = 1

@@ -90,3 +90,39 @@ put("trajectory", "tum.txt", "# timestamp tx ty tz qx qy qz qw\n"
     "1305031102.175304 1.3405 0.6266 1.6575 0.6574 0.6126 -0.2949 -0.3248\n"
     "1305031102.211214 1.3303,0.6256,1.6464,0.6579,0.6161,-0.2932,-0.3189\n")
 put("trajectory", "exp.txt", "1e3 1e-3 -2E+1 0 0 0 0 1\r\n")
+
+# --- checkpoints (fuzz_checkpoint.cpp): the file without its closing checksum, which the target
+# appends; for its pipeline (64x48 camera fx=fy=60, cx=32, cy=24; 2 cm voxels, 10 cm truncation)
+
+
+def checkpoint(frames, with_classes, windowed, bricks, lost=()):
+    def string(s):
+        return struct.pack("<I", len(s)) + s.encode()
+
+    def pose(tx=0.0, ty=0.0, tz=0.0):  # Eigen's column-major 4x4
+        return struct.pack("<16d", 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, tx, ty, tz, 1)
+    settings = [("dataset", "/data/seq"), ("dataset_frames", "10"), ("device", "cpu")]
+    out = b"VDBFUSE-CKPT\n\0\0\0" + struct.pack("<I", 3) + struct.pack("<I", len(settings))
+    out += b"".join(string(k) + string(v) for k, v in settings)
+    out += struct.pack("<ffB", 0.02, 0.1, 1 if with_classes else 0)
+    out += struct.pack("<ii4f", 64, 48, 60.0, 60.0, 32.0, 24.0)
+    out += struct.pack("<ii", frames, len(lost)) + pose(0.01 * frames) + pose(0.01 * frames)
+    out += struct.pack("<BB", 1 if frames else 0, 1 if windowed else 0)
+    if windowed:  # the tracking prediction's level 1: 32x24
+        out += struct.pack("<ii", 32, 24) + b"".join(struct.pack("<f", 0.0 if x < 2 else 0.5) for y in range(24)
+                                                     for x in range(32))
+    out += struct.pack("<B", 0) + pose()
+    out += struct.pack("<iI", frames, frames)
+    out += b"".join(struct.pack("<d", 0.033 * i) + pose(0.01 * i) for i in range(frames))
+    out += struct.pack("<I", len(lost)) + b"".join(string(s) for s in lost)
+    out += struct.pack("<I", len(bricks)) + b"".join(struct.pack("<3i", *b) for b in bricks)
+    out += b"".join(struct.pack("<hH", (v % 64) * 256 - 8000, 1 + v % 3) for _ in bricks for v in range(512))
+    out += b"".join(bytes([200, 100, 50, 255]) for _ in bricks for v in range(512))
+    if with_classes:
+        out += b"".join(struct.pack("<I", (3 << 16) | 15) for _ in bricks for v in range(512))
+    return out
+
+
+put("checkpoint", "two_frames_windowed.bin", checkpoint(2, False, True, [(0, 0, 3), (1, 0, 3)]))
+put("checkpoint", "classes_lost_frame.bin", checkpoint(2, True, False, [(0, 0, 3)], ["frame 1: no model prediction yet"]))
+put("checkpoint", "empty.bin", checkpoint(0, False, False, []))

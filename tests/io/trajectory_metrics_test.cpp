@@ -1,7 +1,15 @@
 #include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <functional>
+#include <new>
+#include <random>
+#include <tuple>
 
 #include "io/trajectory_io.h"
 #include "io/trajectory_metrics.h"
@@ -140,6 +148,91 @@ TEST(TrajectoryLookup, NearestPoseWithinTolerance) {
   ASSERT_TRUE(p.has_value());
   EXPECT_NEAR(p->translation().x(), t[1].T_world_cam.translation().x(), 1e-15);
   EXPECT_FALSE(poseNearTimestamp(t, 100.5).has_value());
+}
+
+// TUM's associate.py as written: every pair within the tolerance, sorted by (difference, a, b),
+// taken greedily. The reference the n log n association must agree with, pair for pair.
+std::vector<std::pair<int, int>> associateLikeTheScript(const std::vector<double>& a, const std::vector<double>& b,
+                                                        double max_difference_s, double offset_s) {
+  std::vector<std::tuple<double, int, int>> candidates;
+  for (int i = 0; i < int(a.size()); ++i)
+    for (int j = 0; j < int(b.size()); ++j) {
+      const double diff = std::abs(a[size_t(i)] - (b[size_t(j)] + offset_s));
+      if (diff < max_difference_s) candidates.emplace_back(diff, i, j);
+    }
+  std::sort(candidates.begin(), candidates.end());
+  std::vector<char> a_used(a.size()), b_used(b.size());
+  std::vector<std::pair<int, int>> matches;
+  for (const auto& [diff, i, j] : candidates)
+    if (!a_used[size_t(i)] && !b_used[size_t(j)]) a_used[size_t(i)] = b_used[size_t(j)] = 1, matches.emplace_back(i, j);
+  std::sort(matches.begin(), matches.end());
+  return matches;
+}
+
+TEST(Associate, SameMatchesAsTumsScriptWithTiesAndOffsets) {
+  std::mt19937 rng(35);
+  // Timestamps on a coarse grid so that equal values and equal differences are common.
+  for (int trial = 0; trial < 20000; ++trial) {
+    const int levels = 1 + int(rng() % 10);
+    const double step = trial % 2 ? 0.01 : 0.003;
+    std::vector<double> a(rng() % 12), b(rng() % 12);
+    for (double& t : a) t = 50.0 + double(rng() % unsigned(levels)) * step;
+    for (double& t : b) t = 50.0 + double(rng() % unsigned(levels)) * step;
+    const double max_difference = trial % 3 ? 0.02 : double(rng() % 5) * 0.005;
+    const double offset = trial % 4 ? 0.0 : 0.003;
+    ASSERT_EQ(associateTimestamps(a, b, max_difference, offset), associateLikeTheScript(a, b, max_difference, offset))
+        << "trial " << trial;
+  }
+  std::uniform_real_distribution<double> u(0, 2);
+  for (int trial = 0; trial < 200; ++trial) {
+    std::vector<double> a(300), b(250);
+    for (double& t : a) t = u(rng);
+    for (double& t : b) t = u(rng);
+    ASSERT_EQ(associateTimestamps(a, b), associateLikeTheScript(a, b, kTumMaxTimeDifference_s, 0)) << trial;
+  }
+}
+
+// Issue 35: 8,000 poses 1 us apart took 1 GB (every pair within 0.02 s was listed), 20,000 more
+// than 6 GB. In a child under an address-space limit of 256 MiB more than it has mapped, the
+// 20,000 must associate (old code: std::bad_alloc, status 3).
+TEST(Associate, DenseTimestampsNeedMemoryLinearInTheirCount) {
+  std::vector<double> a(20000), b(20000);
+  for (size_t i = 0; i < a.size(); ++i) a[i] = 1000.0 + 1e-6 * double(i), b[i] = a[i] + 0.4e-6;
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    unsigned long long pages = 0;
+    std::FILE* statm = std::fopen("/proc/self/statm", "r");
+    if (!statm || std::fscanf(statm, "%llu", &pages) != 1) _exit(4);
+    std::fclose(statm);
+    const rlim_t limit = rlim_t(pages) * rlim_t(sysconf(_SC_PAGESIZE)) + (rlim_t(256) << 20);
+    const rlimit as{limit, limit};
+    if (setrlimit(RLIMIT_AS, &as) != 0) _exit(5);
+    try {
+      const auto matches = associateTimestamps(a, b);
+      // Each a[i] is nearest to b[i] (0.4 us; the next is 0.6 us away).
+      for (size_t i = 0; i < matches.size(); ++i)
+        if (matches[i] != std::pair<int, int>(int(i), int(i))) _exit(2);
+      _exit(matches.size() == a.size() ? 0 : 1);
+    } catch (const std::bad_alloc&) {
+      _exit(3);
+    }
+  }
+  int status = 0;
+  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status)) << "the child died of signal " << WTERMSIG(status);
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "1: not every pose matched, 2: wrong pairs, 3: out of memory";
+}
+
+TEST(Ate, AbsurdPositionsAreRefusedNotPrintedAsInfinity) {
+  Trajectory gt = spiral(10), est = gt;
+  est[4].T_world_cam.translation() = Eigen::Vector3d(1e300, 0, 0);
+  const std::string message = test::errorOf([&] { requirePlausiblePositions(est, "est.txt"); });
+  EXPECT_NE(message.find("est.txt: pose 5 (t = 100.120000) is at (1e+300, 0, 0) m"), std::string::npos) << message;
+  EXPECT_EQ(test::errorOf([&] { requirePlausiblePositions(gt, "gt.txt"); }), "(no error)");
+  // Past the check (the library called directly), the statistics overflow: an error, not inf.
+  EXPECT_NE(test::errorOf([&] { computeAte(est, gt); }).find("the ATE is not finite"), std::string::npos);
+  EXPECT_NE(test::errorOf([&] { computeRpe(est, gt); }).find("the RPE is not finite"), std::string::npos);
 }
 
 }  // namespace

@@ -23,6 +23,14 @@ TEST(GpuMemoryCheck, RefusesMoreThanTheGpuHasFreeAndSaysWhatToDo) {
   EXPECT_NE(error.find("--device cpu"), std::string::npos) << error;
 }
 
+// Issue 35 cause 14: running out of memory named no option.
+TEST(OutOfMemory, ReconstructNamesTheOptionsThatLowerTheNeed) {
+  const std::string message = outOfMemoryMessage("reconstruct");
+  for (const char* option : {"--voxel-size-m", "--max-depth-m", "--max-frames", "ulimit -v"})
+    EXPECT_NE(message.find(option), std::string::npos) << message;
+  EXPECT_EQ(outOfMemoryMessage("mesh"), "out of memory (an input states sizes this machine cannot hold)");
+}
+
 TEST(HostMemory, ReadsThisMachinesMeminfo) {
   const std::optional<HostMemory> memory = readHostMemory();
   ASSERT_TRUE(memory.has_value()) << "/proc/meminfo could not be read";

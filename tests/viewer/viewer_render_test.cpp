@@ -282,6 +282,41 @@ TEST_F(ViewerRender, TrajectoryCameraUsesTheScenesFieldOfView) {
   EXPECT_GT(double(countNonBackground(narrow)), 2.0 * double(countNonBackground(wide)));
 }
 
+// Issue 35 cause 29: a trajectory 1e30 m away was framed with the scene: the scene shrank to
+// nothing and a blank picture was written, exit 0. Named, it is refused; found beside the scene,
+// it is left out with a notice and the scene is framed alone.
+TEST_F(ViewerRender, ATrajectoryFarFromTheSceneIsNotFramed) {
+  const std::string scene = test::writeBallScene(dir_, "far", true, false);
+  Trajectory far = test::arcTrajectory();
+  far[3].T_world_cam.translation() = Eigen::Vector3d(1e30, 0, 0);
+  writeTumTrajectory(dir_ + "/far_path.txt", far);
+  const std::string png = dir_ + "/far_named.png";
+  const RunResult r = view(scene + " --screenshot " + png + " --trajectory " + dir_ + "/far_path.txt");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find(dir_ + "/far_path.txt: pose 3 is at (1e+30, 0, 0) m"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("not this scene's trajectory"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(png));
+  writeTumTrajectory(dir_ + "/far.txt", far);  // beside the scene
+  const cv::Mat img = render("far_beside", "--camera front", scene);
+  ASSERT_FALSE(img.empty());
+  // The old picture held the class panel and a line towards 1e30 m: no ball in the middle.
+  const cv::Mat centre = img(cv::Rect(kW / 2 - 20, kH / 2 - 20, 40, 40));
+  EXPECT_EQ(countNonBackground(centre), 1600u) << "the ball is in the middle of the picture";
+  const RunResult beside = view(scene + " --screenshot " + dir_ + "/far_beside2.png --size 320x180");
+  EXPECT_NE(beside.output.find("trajectory not shown: " + dir_ + "/far.txt: pose 3"), std::string::npos)
+      << beside.output;
+}
+
+// Issue 35 cause 13: the viewer's float options refuse NaN as vdbfuse's do (the same check).
+TEST_F(ViewerRender, NonFiniteOptionValuesAreRefused) {
+  const std::string png = dir_ + "/nan_weight.png";
+  const RunResult r = view(scene_ + " --screenshot " + png + " --min-weight nan");
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("vdbfuse-view: --min-weight: must be a finite number, got nan"), std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(png));
+}
+
 TEST_F(ViewerRender, ErrorsSayWhatIsWrong) {
   const std::string png = dir_ + "/never.png";
   // Empty scene.
