@@ -13,7 +13,7 @@ seconds=${1:-600}
 shift || true
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
-  targets=(tum_list image lzfse r3d r3d_metadata class_table trajectory scene dataset_text ply)
+  targets=(tum_list image lzfse r3d r3d_metadata class_table trajectory scene dataset_text ply dataset_json dataset_folder)
 fi
 
 if [ ! -f build-fuzz/build.ninja ]; then

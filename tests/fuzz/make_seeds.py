@@ -90,3 +90,48 @@ put("trajectory", "tum.txt", "# timestamp tx ty tz qx qy qz qw\n"
     "1305031102.175304 1.3405 0.6266 1.6575 0.6574 0.6126 -0.2949 -0.3248\n"
     "1305031102.211214 1.3303,0.6256,1.6464,0.6579,0.6161,-0.2932,-0.3189\n")
 put("trajectory", "exp.txt", "1e3 1e-3 -2E+1 0 0 0 0 1\r\n")
+
+# --- dataset layouts: their JSON camera files, and whole folders (fuzz_dataset_folder.cpp's format:
+# a layout byte, then "@@ path" lines each followed by the file's content)
+put("dataset_json", "cam_params.json", json.dumps({"camera": {"w": 1200, "h": 680, "fx": 600.0, "fy": 600.0,
+                                                              "cx": 599.5, "cy": 339.5, "scale": 6553.5}}))
+put("dataset_json", "camera-intrinsics.json", json.dumps({"width": 640, "height": 480, "intrinsic_matrix":
+                                                          [525.0, 0, 0, 0, 525.0, 0, 319.5, 239.5, 1]}))
+
+
+def folder(layout, files):
+    return bytes([layout]) + "".join(f"@@ {path}\n{content}\n" for path, content in files).encode()
+
+
+IDENTITY = "1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1"
+MOVED = "1 0 0 0.1\n0 1 0 0\n0 0 1 0\n0 0 0 1"
+put("dataset_folder", "seven_scenes", folder(0, [
+    ("scene/camera-intrinsics.txt", "40 0 15.5\n0 40 11.5\n0 0 1"),
+    ("scene/frame-000000.depth.png", "DEPTH 32 24 1500"), ("scene/frame-000000.color.png", "COLOR 32 24"),
+    ("scene/frame-000000.pose.txt", IDENTITY),
+    ("scene/frame-000001.depth.png", "DEPTH 32 24 1600"), ("scene/frame-000001.color.png", "COLOR 32 24"),
+    ("scene/frame-000001.pose.txt", MOVED)]))
+put("dataset_folder", "replica", folder(1, [
+    ("cam_params.json", '{"camera": {"w": 32, "h": 24, "fx": 40, "fy": 40, "cx": 15.5, "cy": 11.5, "scale": 6553.5}}'),
+    ("scene/traj.txt", "1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n1 0 0 0.1 0 1 0 0 0 0 1 0 0 0 0 1"),
+    ("scene/results/depth000000.png", "DEPTH 32 24 9000"), ("scene/results/frame000000.jpg", "COLOR 32 24"),
+    ("scene/results/depth000001.png", "DEPTH 32 24 9100"), ("scene/results/frame000001.jpg", "LINK gone.jpg")]))
+put("dataset_folder", "scannet", folder(2, [
+    ("scene/intrinsic/intrinsic_depth.txt", "40 0 15.5 0\n0 40 11.5 0\n0 0 1 0\n0 0 0 1"),
+    ("scene/depth/0.png", "DEPTH 32 24 1500"), ("scene/color/0.jpg", "COLOR 64 48"), ("scene/pose/0.txt", IDENTITY),
+    ("scene/depth/2.png", "DEPTH 32 24 1500"), ("scene/color/2.jpg", "COLOR 64 48"),
+    ("scene/pose/2.txt", "-inf -inf -inf -inf\n-inf -inf -inf -inf\n-inf -inf -inf -inf\n-inf -inf -inf -inf"),
+    ("scene/depth/10.png", "DEPTH 32 24 1500"), ("scene/pose/10.txt", MOVED)]))
+put("dataset_folder", "redwood", folder(3, [
+    ("scene/camera-intrinsics.json", '{"width": 32, "height": 24, "intrinsic_matrix": [40, 0, 0, 0, 40, 0, 15.5, 11.5, 1]}'),
+    ("scene/depth/0.png", "DEPTH 32 24 1500"), ("scene/color/0.jpg", "COLOR 32 24"),
+    ("scene/depth/1.png", "DEPTH 32 24 1500"), ("scene/color/1.jpg", "COLOR 32 24"),
+    ("scene/depth/10.png", "DEPTH 32 24 1500"), ("scene/color/10.jpg", "COLOR 32 24"),
+    ("scene/trajectory.log", f"0 0 1\n{IDENTITY}\n2 2 3\n{MOVED}")]))
+put("dataset_folder", "tum", folder(4, [
+    ("scene/camera_intrinsics.txt", "# fx fy cx cy\n40 40 15.5 11.5\n0.1 0 0 0 0"),
+    ("scene/depth.txt", "# depth\n1.000000 depth/1.png\n1.033333 depth/2.png"),
+    ("scene/rgb.txt", "# rgb\n1.005 rgb/1.png\n1.040 rgb/2.png"),
+    ("scene/groundtruth.txt", "1.001 0 0 0 0 0 0 1\n1.034 0.1 0 0 0 0 0 1"),
+    ("scene/depth/1.png", "DEPTH 32 24 7500"), ("scene/depth/2.png", "DEPTH 32 24 7600"),
+    ("scene/rgb/1.png", "COLOR 32 24"), ("scene/rgb/2.png", "COLOR 32 24")]))
