@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include "core/error.h"
@@ -115,6 +116,7 @@ std::vector<LogEntry> parseLogTrajectory(const std::string& text, const std::str
   std::string line;
   std::vector<LogEntry> entries;
   std::vector<double> rows;
+  std::map<int, int> line_of_frame;  // a second pose for one frame would silently replace the first
   int header_line = 0, frame = 0;
   for (int n = 1; std::getline(in, line); ++n) {
     if (isComment(line) || line.find_first_not_of(" \t\r") == std::string::npos) continue;
@@ -124,6 +126,10 @@ std::vector<LogEntry> parseLogTrajectory(const std::string& text, const std::str
         throw Error(at(source, n) + ": expected a '.log' entry header 'id id frame' (3 integers)");
       header_line = n;
       frame = int(v[0]);
+      const auto [it, first] = line_of_frame.emplace(frame, n);
+      if (!first)
+        throw Error(at(source, n) + ": a second pose for frame " + std::to_string(frame) + " (the first is at line " +
+                    std::to_string(it->second) + ")");
       rows.clear();
       continue;
     }

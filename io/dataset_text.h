@@ -29,7 +29,8 @@ std::optional<Pose> readPoseMatrixFile(const std::string& path);
 std::vector<Pose> parseReplicaTrajectory(const std::string& text, const std::string& source);
 
 // Redwood / Open3D .log: per pose a line "id id frame" then four rows of the 4x4
-// camera-to-world. Returns (the first id, pose) in file order.
+// camera-to-world. Returns (the first id, pose) in file order; two poses for one id are an error
+// naming both lines.
 struct LogEntry {
   int frame = 0;
   Pose T_world_cam = Pose::Identity();

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <tuple>
 #include <fstream>
@@ -38,6 +39,26 @@ std::array<double, 7> poseNumbers(const json& p, const std::string& field, const
   std::array<double, 7> v;
   for (size_t i = 0; i < 7; ++i) v[i] = jsonNumber(p[i], field + "[" + std::to_string(i) + "]", source);
   return v;
+}
+
+// Two frames at one time (to the microsecond the trajectory is written with) would write a
+// trajectory `evaluate` refuses, its two poses at one time.
+void requireDistinctTimes(const std::vector<double>& t, const std::string& source) {
+  std::vector<size_t> order(t.size());
+  for (size_t i = 0; i < t.size(); ++i) order[i] = i;
+  auto micro = [&](size_t i) {
+    const double us = std::round(t[i] * 1e6);
+    return std::isfinite(us) ? us : t[i];
+  };
+  std::sort(order.begin(), order.end(),
+            [&](size_t a, size_t b) { return micro(a) < micro(b) || (micro(a) == micro(b) && a < b); });
+  for (size_t k = 1; k < order.size(); ++k)
+    if (micro(order[k - 1]) == micro(order[k])) {
+      char when[64];
+      std::snprintf(when, sizeof when, "%.6f", t[order[k]]);
+      throw Error(source + ": 'frameTimestamps[" + std::to_string(order[k - 1]) + "]' and 'frameTimestamps[" +
+                  std::to_string(order[k]) + "]' are both " + when + " s; each frame needs its own time");
+    }
 }
 
 // Why q (x, y, z, w) cannot be a rotation's quaternion, or "": ARKit writes unit quaternions, a
@@ -143,6 +164,7 @@ Record3dMetadata parseRecord3dMetadata(const std::string& text, const std::strin
     const json& t = jsonArray(j["frameTimestamps"], -1, "frameTimestamps", source);
     for (size_t i = 0; i < t.size(); ++i)
       m.timestamps_s.push_back(jsonNumber(t[i], "frameTimestamps[" + std::to_string(i) + "]", source));
+    requireDistinctTimes(m.timestamps_s, source);
   }
   m.world_up = record3dWorldUp(j, m, source);
   if (m.timestamps_s.empty() && !(m.fps > 0))

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 
 #include "core/error.h"
 #include "dataset_fixtures.h"
@@ -97,6 +98,15 @@ TEST(DuplicateFrames, TwoFilesOfOneNumberAreRefusedNamingBoth) {
   fs::copy_file(redwood + "/depth/000001.png", redwood + "/depth/1.png");
   e = errorOf([&] { readRedwood(redwood); });
   EXPECT_TRUE(contains(e, "000001.png and 1.png name the same frame")) << e;
+}
+
+// Found beside cause 12: a .log with two poses for one frame kept the second without a word.
+TEST(DuplicateFrames, TwoLogPosesForOneFrameAreRefusedNamingBothLines) {
+  const std::string redwood = test::tempDir("hostile_dup_log");
+  test::writeRedwood(redwood, test::fixturePoses(3));
+  std::ofstream(redwood + "/trajectory.log", std::ios::app) << "1 1 2\n1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n";
+  const std::string e = errorOf([&] { readRedwood(redwood); });
+  EXPECT_TRUE(contains(e, redwood + "/trajectory.log:16: a second pose for frame 1 (the first is at line 6)")) << e;
 }
 
 // Cause 16: ScanNet colour is resized onto the depth; colour of another shape was stretched.

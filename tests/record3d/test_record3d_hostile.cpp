@@ -90,6 +90,15 @@ TEST(Record3dHostile, BadPosesNameTheCaptureAndThePoseIndex) {
   EXPECT_TRUE(contains(e, init + ": metadata: 'initPose' quaternion (qx, qy, qz, qw) has length 5")) << e;
 }
 
+// Found beside cause 12: two frames at one time wrote a trajectory `evaluate` refuses.
+TEST(Record3dHostile, TwoFramesAtOneTimeAreRefused) {
+  VF_REQUIRE_DATA(r3d, "record3d_dance_head200.r3d");
+  const std::string path =
+      captureWith("same_time", std::string(R"("w":720,"h":960,"frameTimestamps":[10.5,10.5000001],)") + kK);
+  const std::string e = openError(path);
+  EXPECT_TRUE(contains(e, path + ": metadata: 'frameTimestamps[0]' and 'frameTimestamps[1]' are both 10.500000 s")) << e;
+}
+
 // Cause 19: a K the pipeline cannot fuse was reported as "Intrinsics.cx (--intrinsics)".
 TEST(Record3dHostile, AnUnusableKNamesTheCaptureAndK) {
   VF_REQUIRE_DATA(r3d, "record3d_dance_head200.r3d");
