@@ -115,7 +115,10 @@ put("dataset_folder", "replica", folder(1, [
     ("cam_params.json", '{"camera": {"w": 32, "h": 24, "fx": 40, "fy": 40, "cx": 15.5, "cy": 11.5, "scale": 6553.5}}'),
     ("scene/traj.txt", "1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n1 0 0 0.1 0 1 0 0 0 0 1 0 0 0 0 1"),
     ("scene/results/depth000000.png", "DEPTH 32 24 9000"), ("scene/results/frame000000.jpg", "COLOR 32 24"),
-    ("scene/results/depth000001.png", "DEPTH 32 24 9100"), ("scene/results/frame000001.jpg", "LINK gone.jpg")]))
+    ("scene/results/depth000001.png", "DEPTH 32 24 9100"), ("scene/results/frame000001.jpg", "COLOR 32 24")]))
+put("dataset_folder", "seven_scenes_link", folder(0, [
+    ("scene/frame-000000.depth.png", "DEPTH 32 24 1500"), ("scene/frame-000000.color.png", "LINK gone.png"),
+    ("scene/frame-0.depth.png", "DEPTH 32 24 1500")]))
 put("dataset_folder", "scannet", folder(2, [
     ("scene/intrinsic/intrinsic_depth.txt", "40 0 15.5 0\n0 40 11.5 0\n0 0 1 0\n0 0 0 1"),
     ("scene/depth/0.png", "DEPTH 32 24 1500"), ("scene/color/0.jpg", "COLOR 64 48"), ("scene/pose/0.txt", IDENTITY),
