@@ -10,11 +10,14 @@
 //   Replica (NICE-SLAM) results/frameXXXXXX.jpg, results/depthXXXXXX.png, traj.txt (a row-major
 //                       4x4 per line), cam_params.json here or one folder up (its "scale").
 //   ScanNet (exported)  color/N.jpg, depth/N.png (mm), pose/N.txt, intrinsic/intrinsic_depth.txt;
-//                       colour is area-resized to the depth size (not registered).
-//   Redwood             color/ (or image/) and depth/ (mm) with matching sorted names, one .log
-//                       trajectory; intrinsics from camera-intrinsics.json (Open3D) or
+//                       colour is area-resized to the depth size (not registered; an aspect
+//                       ratio more than 1 % off the depth's is refused, not stretched).
+//   Redwood             color/ (or image/) and depth/ (mm), paired in frame-number order (2.png
+//                       before 10.png, io/frame_order.h), one .log trajectory (poses by that
+//                       order); intrinsics from camera-intrinsics.json (Open3D) or
 //                       PrimeSense's 525, 525, 319.5, 239.5.
 // Frames without a timestamp of their own are at the frame index / 30 Hz (the sensors' rate).
+// Two files of one frame number ("1.png" beside "01.png") are an error naming both.
 #include <optional>
 #include <string>
 
@@ -41,6 +44,13 @@ FrameList readScanNet(const std::string& folder, const LayoutOptions& options = 
 
 bool looksLikeRedwood(const std::string& folder);
 FrameList readRedwood(const std::string& folder, const LayoutOptions& options = {});
+
+// The layouts' JSON camera files, from their text into the list's camera fields (w/h into
+// expected_width/height); `source` names the file in errors, with the field ("camera.fx").
+// Replica's cam_params.json {"camera": {"w", "h", "fx", "fy", "cx", "cy", "scale"}}, scale included:
+void parseReplicaCamParams(const std::string& text, const std::string& source, FrameList& list);
+// Open3D's camera-intrinsics.json {"width", "height", "intrinsic_matrix": 3x3 column-major}:
+void parseOpen3dIntrinsics(const std::string& text, const std::string& source, FrameList& list);
 
 // Shared by the layouts: the scale and the intrinsics a FrameList ends with, given the layout's
 // own and the overrides.

@@ -3,14 +3,17 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include "core/error.h"
 #include "core/text_fields.h"
 #include "core/mapped_file.h"
+#include "io/frame_order.h"
 
 namespace vf {
 namespace {
@@ -56,8 +59,19 @@ std::vector<double> parseNumbers(const std::string& text, const std::string& sou
 }
 
 std::optional<Pose> poseFromRowMajor(const double* m, const std::string& source) {
-  for (int i = 0; i < 16; ++i)
-    if (!std::isfinite(m[i])) return std::nullopt;
+  int infinite = 0, first_bad = -1;
+  for (int i = 0; i < 16; ++i) {
+    infinite += std::isinf(m[i]) ? 1 : 0;
+    if (!std::isfinite(m[i]) && first_bad < 0) first_bad = i;
+  }
+  if (infinite == 16) return std::nullopt;  // ScanNet's mark of a frame its tracking lost
+  if (first_bad >= 0) {
+    char value[32];
+    std::snprintf(value, sizeof value, "%g", m[first_bad]);
+    throw Error(source + ": the pose holds " + value + " at row " + std::to_string(first_bad / 4 + 1) + ", column " +
+                std::to_string(first_bad % 4 + 1) + "; a pose must be finite (only a matrix of all -inf, ScanNet's "
+                "mark of a lost frame, means no pose)");
+  }
   if (m[12] != 0 || m[13] != 0 || m[14] != 0 || std::abs(m[15] - 1) > 1e-9)
     throw Error(source + ": the last row of a 4x4 pose must be 0 0 0 1");
   Eigen::Matrix3d r;
@@ -102,6 +116,7 @@ std::vector<LogEntry> parseLogTrajectory(const std::string& text, const std::str
   std::string line;
   std::vector<LogEntry> entries;
   std::vector<double> rows;
+  std::map<int, int> line_of_frame;  // a second pose for one frame would silently replace the first
   int header_line = 0, frame = 0;
   for (int n = 1; std::getline(in, line); ++n) {
     if (isComment(line) || line.find_first_not_of(" \t\r") == std::string::npos) continue;
@@ -111,6 +126,10 @@ std::vector<LogEntry> parseLogTrajectory(const std::string& text, const std::str
         throw Error(at(source, n) + ": expected a '.log' entry header 'id id frame' (3 integers)");
       header_line = n;
       frame = int(v[0]);
+      const auto [it, first] = line_of_frame.emplace(frame, n);
+      if (!first)
+        throw Error(at(source, n) + ": a second pose for frame " + std::to_string(frame) + " (the first is at line " +
+                    std::to_string(it->second) + ")");
       rows.clear();
       continue;
     }
@@ -145,7 +164,7 @@ PinholeMatrix parseIntrinsicMatrix(const std::string& text, const std::string& s
 }
 
 std::vector<NumberedFile> numberedFiles(const std::string& folder, const std::string& prefix, const std::string& suffix) {
-  std::vector<NumberedFile> out;
+  std::vector<std::string> names;
   std::error_code ec;
   for (const auto& entry : std::filesystem::directory_iterator(folder, ec)) {
     const std::string name = entry.path().filename().string();
@@ -154,9 +173,15 @@ std::vector<NumberedFile> numberedFiles(const std::string& folder, const std::st
       continue;
     const std::string digits = name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
     if (digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
+    names.push_back(name);
+  }
+  // By number, and "1" beside "000001" refused (io/frame_order.h).
+  sortByFrameNumber(names, folder);
+  std::vector<NumberedFile> out;
+  for (const std::string& name : names) {
+    const std::string digits = name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
     out.push_back({std::stol(digits), digits});
   }
-  std::sort(out.begin(), out.end());
   return out;
 }
 

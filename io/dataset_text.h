@@ -17,8 +17,9 @@ std::string readTextFile(const std::string& path, size_t max_bytes = size_t(64) 
 
 // A camera-to-world 4x4 from 16 row-major numbers. The rotation block must be a rotation to
 // within 1e-2 (datasets store poses rounded, or from a float pipeline) and is re-orthonormalised;
-// the last row must be 0 0 0 1. Returns nullopt when any number is not finite (ScanNet marks
-// frames its tracking lost with -inf). Throws vf::Error naming `source` otherwise.
+// the last row must be 0 0 0 1. Returns nullopt when all 16 numbers are infinite (ScanNet marks
+// frames its tracking lost with -inf). Throws vf::Error naming `source` otherwise, a NaN or a
+// partly infinite matrix included (naming the row and column).
 std::optional<Pose> poseFromRowMajor(const double* m16, const std::string& source);
 
 // A file holding one 4x4 matrix (7-Scenes frame-XXXXXX.pose.txt, ScanNet pose/N.txt).
@@ -28,7 +29,8 @@ std::optional<Pose> readPoseMatrixFile(const std::string& path);
 std::vector<Pose> parseReplicaTrajectory(const std::string& text, const std::string& source);
 
 // Redwood / Open3D .log: per pose a line "id id frame" then four rows of the 4x4
-// camera-to-world. Returns (the first id, pose) in file order.
+// camera-to-world. Returns (the first id, pose) in file order; two poses for one id are an error
+// naming both lines.
 struct LogEntry {
   int frame = 0;
   Pose T_world_cam = Pose::Identity();
@@ -44,7 +46,8 @@ PinholeMatrix parseIntrinsicMatrix(const std::string& text, const std::string& s
 
 // The files of `folder` named <prefix><1 to 9 digits><suffix> (ScanNet "12.png", Replica
 // "depth000012.png", 7-Scenes "frame-000012.depth.png"), sorted by number; digits as written.
-// A missing or unreadable folder gives none.
+// A missing or unreadable folder gives none. Two files of one number ("12.png" beside
+// "012.png") are an error naming both (io/frame_order.h).
 struct NumberedFile {
   long number = 0;
   std::string digits;

@@ -4,6 +4,9 @@
 #include <cmath>
 #include <cstdio>
 
+#include <filesystem>
+
+#include "core/camera_check.h"
 #include "core/error.h"
 #include "io/image_io.h"
 
@@ -47,7 +50,33 @@ std::vector<Tap> areaTaps(int in_size, int out_size) {
   return taps;
 }
 
+// Every file of the list is there before anything is fused: a dangling link where a colour image
+// should be must not become a frame without colour, nor an error after an hour of fusion.
+void requireFrameFile(const std::string& path, const char* what) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::is_regular_file(path, ec)) return;
+  if (fs::is_symlink(fs::symlink_status(path, ec)))
+    throw Error(std::string(what) + " " + path + " is a link to " + fs::read_symlink(path, ec).string() +
+                ", which cannot be read (missing or not a file)");
+  throw Error(std::string(what) + " " + path + " is missing or not a file");
+}
+
 }  // namespace
+
+bool aspectRatiosDiffer(int w1, int h1, int w2, int h2) {
+  const double a1 = double(w1) / double(h1), a2 = double(w2) / double(h2);
+  return !(std::abs(a1 - a2) <= 0.01 * std::min(a1, a2));
+}
+
+std::string presentFile(const std::vector<std::string>& candidates) {
+  namespace fs = std::filesystem;
+  for (const std::string& path : candidates) {
+    std::error_code ec;
+    if (fs::exists(fs::symlink_status(path, ec))) return path;
+  }
+  return "";
+}
 
 ColorImage resizeColorArea(const ColorImage& color, int width, int height) {
   if (color.width() == width && color.height() == height) return color;
@@ -85,6 +114,10 @@ FrameListSource::FrameListSource(FrameList list) : list_(std::move(list)) {
                 std::to_string(list_.depth_units_per_metre));
   if (!(list_.fx > 0 && list_.fy > 0)) throw Error(list_.folder + ": no positive focal length (" +
                                                    list_.intrinsics_source + ")");
+  for (const FrameFiles& f : list_.frames) {
+    requireFrameFile(f.depth, "depth image");
+    if (!f.color.empty()) requireFrameFile(f.color, "colour image");
+  }
   const std::string& first = list_.frames.front().depth;
   const DepthImage depth = readDepthPng(first, list_.depth_units_per_metre);
   if (list_.expected_width > 0 &&
@@ -93,6 +126,10 @@ FrameListSource::FrameListSource(FrameList list) : list_(std::move(list)) {
                 std::to_string(depth.height()) + " but " + list_.intrinsics_source + " describes " +
                 std::to_string(list_.expected_width) + "x" + std::to_string(list_.expected_height));
   intrinsics_ = {list_.fx, list_.fy, list_.cx, list_.cy, depth.width(), depth.height()};
+  const std::string problem = cameraProblem(intrinsics_);
+  if (!problem.empty())
+    throw Error(list_.intrinsics_source + ": " + problem + " (the depth images, e.g. " + first + ", are " +
+                std::to_string(depth.width()) + "x" + std::to_string(depth.height()) + ")");
 }
 
 RgbdFrame FrameListSource::load(int index) const {
@@ -114,10 +151,12 @@ RgbdFrame FrameListSource::load(int index) const {
   if (!f.color.empty()) {
     frame.color = readColorImage(f.color);
     if (frame.color.width() != w || frame.color.height() != h) {
-      if (!list_.resize_color)
-        throw Error("colour image " + f.color + " is " + std::to_string(frame.color.width()) + "x" +
-                    std::to_string(frame.color.height()) + " but its depth image " + f.depth + " is " +
-                    std::to_string(w) + "x" + std::to_string(h));
+      const std::string sizes = "colour image " + f.color + " is " + std::to_string(frame.color.width()) + "x" +
+                                std::to_string(frame.color.height()) + " but its depth image " + f.depth + " is " +
+                                std::to_string(w) + "x" + std::to_string(h);
+      if (!list_.resize_color) throw Error(sizes);
+      if (aspectRatiosDiffer(frame.color.width(), frame.color.height(), w, h))
+        throw Error(sizes + ": another aspect ratio, so resizing the colour onto the depth would stretch it");
       frame.color = resizeColorArea(frame.color, w, h);
     }
   }

@@ -29,13 +29,16 @@ struct FrameList {
   std::string depth_scale_source;
   uint16_t depth_invalid_value = 0;     // a second "no reading" value besides 0 (7-Scenes: 65535)
   bool color_registered = true;         // colour pixel (u, v) sees what depth pixel (u, v) sees
-  bool resize_color = false;            // colour at another size is area-resized to the depth size
+  bool resize_color = false;            // colour at another size (same aspect ratio within 1 %) is
+                                        // area-resized to the depth size
 };
 
 class FrameListSource : public FrameSource {
  public:
-  // Reads the first depth image for the size; throws vf::Error naming the file when it is
-  // missing or does not match expected_width x expected_height.
+  // Checks that every listed file is there (a dangling link is an error, not a frame without
+  // colour), reads the first depth image for the size and checks the camera against it; throws
+  // vf::Error naming the file when one is missing, the size does not match expected_width x
+  // expected_height, or the intrinsics cannot be fused (naming intrinsics_source).
   explicit FrameListSource(FrameList list);
 
   int size() const override { return int(list_.frames.size()); }
@@ -53,9 +56,18 @@ class FrameListSource : public FrameSource {
   Intrinsics intrinsics_;
 };
 
+// The first of `candidates` (paths) that is there as a folder entry, a dangling link included: the
+// readers list it, and FrameListSource then refuses it by name instead of fusing the frame
+// without colour. "" when none is there.
+std::string presentFile(const std::vector<std::string>& candidates);
+
 // 16-bit PNG -> metres: raw / units_per_metre, with 0 and `invalid_value` (when non-zero)
 // meaning no reading.
 DepthImage readScaledDepthPng(const std::string& path, float units_per_metre, uint16_t invalid_value);
+
+// Whether width / height of two images differ by more than 1 %: resizing one onto the other would
+// stretch it. ScanNet's 1296x968 colour over its 640x480 depth differs by 0.4 %.
+bool aspectRatiosDiffer(int w1, int h1, int w2, int h2);
 
 // Box-filters `color` to width x height (each output pixel the mean of the input it covers).
 ColorImage resizeColorArea(const ColorImage& color, int width, int height);

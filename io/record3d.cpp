@@ -5,12 +5,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <tuple>
 #include <fstream>
 
+#include "core/camera_check.h"
 #include "core/error.h"
+#include "io/frame_list_source.h"
 #include "io/image_codec.h"
+#include "io/json_fields.h"
 #include "core/mapped_file.h"
 #include "io/lzfse.h"
 #include "io/zip_archive.h"
@@ -20,17 +24,51 @@ namespace {
 
 using nlohmann::json;
 
+// Metadata fields, typed, each error naming the field (io/json_fields.h).
 const json& requireKey(const json& j, const char* key, const std::string& source) {
-  const auto it = j.find(key);
-  if (it == j.end()) throw Error(source + ": metadata has no '" + key + "'");
-  return *it;
+  return jsonMember(j, key, key, source);
 }
 
 int positiveInt(const json& j, const char* key, const std::string& source) {
-  const json& v = requireKey(j, key, source);
-  if (!v.is_number_integer() || v.get<int64_t>() <= 0 || v.get<int64_t>() > 100000)
-    throw Error(source + ": metadata '" + key + "' must be a positive image size, got " + v.dump());
-  return v.get<int>();
+  return jsonInteger(requireKey(j, key, source), 1, 100000, key, source);
+}
+
+// [qx, qy, qz, qw, tx, ty, tz] of `field` ("poses[3]"): seven finite numbers.
+std::array<double, 7> poseNumbers(const json& p, const std::string& field, const std::string& source) {
+  jsonArray(p, 7, field, source);
+  std::array<double, 7> v;
+  for (size_t i = 0; i < 7; ++i) v[i] = jsonNumber(p[i], field + "[" + std::to_string(i) + "]", source);
+  return v;
+}
+
+// Two frames at one time (to the microsecond the trajectory is written with) would write a
+// trajectory `evaluate` refuses, its two poses at one time.
+void requireDistinctTimes(const std::vector<double>& t, const std::string& source) {
+  std::vector<size_t> order(t.size());
+  for (size_t i = 0; i < t.size(); ++i) order[i] = i;
+  auto micro = [&](size_t i) {
+    const double us = std::round(t[i] * 1e6);
+    return std::isfinite(us) ? us : t[i];
+  };
+  std::sort(order.begin(), order.end(),
+            [&](size_t a, size_t b) { return micro(a) < micro(b) || (micro(a) == micro(b) && a < b); });
+  for (size_t k = 1; k < order.size(); ++k)
+    if (micro(order[k - 1]) == micro(order[k])) {
+      char when[64];
+      std::snprintf(when, sizeof when, "%.6f", t[order[k]]);
+      throw Error(source + ": 'frameTimestamps[" + std::to_string(order[k - 1]) + "]' and 'frameTimestamps[" +
+                  std::to_string(order[k]) + "]' are both " + when + " s; each frame needs its own time");
+    }
+}
+
+// Why q (x, y, z, w) cannot be a rotation's quaternion, or "": ARKit writes unit quaternions, a
+// length far from 1 is a damaged pose.
+std::string quaternionProblem(const std::array<double, 7>& p) {
+  const double n = Eigen::Quaterniond(p[3], p[0], p[1], p[2]).norm();
+  if (n > 0.5 && n < 2.0) return "";
+  char text[64];
+  std::snprintf(text, sizeof text, "%g", n);
+  return std::string("quaternion (qx, qy, qz, qw) has length ") + text + ", not a rotation's 1";
 }
 
 // ARKit's world is gravity-aligned, +y up. Record3D writes the poses relative to the first
@@ -39,10 +77,10 @@ int positiveInt(const json& j, const char* key, const std::string& source) {
 // poses are ARKit's own unless the first is the identity (re-based, gravity lost).
 std::optional<Vec3f> record3dWorldUp(const json& j, const Record3dMetadata& m, const std::string& source) {
   if (j.contains("initPose")) {
-    const json& p = j["initPose"];
-    if (!p.is_array() || p.size() != 7) throw Error(source + ": metadata 'initPose' must be [qx, qy, qz, qw, tx, ty, tz]");
-    Eigen::Quaterniond q(p[3].get<double>(), p[0].get<double>(), p[1].get<double>(), p[2].get<double>());
-    if (!(q.norm() > 0.5 && q.norm() < 2.0)) throw Error(source + ": metadata 'initPose' quaternion is not a rotation");
+    const std::array<double, 7> p = poseNumbers(j["initPose"], "initPose", source);
+    const std::string problem = quaternionProblem(p);
+    if (!problem.empty()) throw Error(source + ": 'initPose' " + problem);
+    const Eigen::Quaterniond q(p[3], p[0], p[1], p[2]);
     const Eigen::Vector3d up = q.normalized().toRotationMatrix().transpose() * Eigen::Vector3d::UnitY();
     return Vec3f{float(up.x()), float(up.y()), float(up.z())};
   }
@@ -56,8 +94,9 @@ std::optional<Vec3f> record3dWorldUp(const json& j, const Record3dMetadata& m, c
 }  // namespace
 
 Pose record3dPoseToCamera(const std::array<double, 7>& p) {
+  const std::string problem = quaternionProblem(p);
+  if (!problem.empty()) throw Error("Record3D pose: " + problem);
   Eigen::Quaterniond q(p[3], p[0], p[1], p[2]);  // Eigen's constructor takes w first
-  if (!(q.norm() > 0.5 && q.norm() < 2.0)) throw Error("Record3D pose quaternion is not a rotation");
   q.normalize();
   Pose T_world_glcam = Pose::Identity();
   T_world_glcam.linear() = q.toRotationMatrix();
@@ -78,45 +117,56 @@ Record3dMetadata parseRecord3dMetadata(const std::string& text, const std::strin
   }
   if (!j.is_object()) throw Error(source + ": metadata is not a JSON object");
   Record3dMetadata m;
-  try {
-    m.rgb_width = positiveInt(j, "w", source);
-    m.rgb_height = positiveInt(j, "h", source);
-    if (j.contains("dw") || j.contains("dh")) {
-      m.depth_width = positiveInt(j, "dw", source);
-      m.depth_height = positiveInt(j, "dh", source);
-    }
-    for (const auto& [w, h, what] : {std::tuple{m.rgb_width, m.rgb_height, "w x h"},
-                                     std::tuple{m.depth_width, m.depth_height, "dw x dh"}})
-      if (uint64_t(w) * uint64_t(h) > kMaxImagePixels)
-        throw Error(source + ": metadata " + what + " = " + std::to_string(w) + "x" + std::to_string(h) +
-                    " is more than the " + std::to_string(kMaxImagePixels / 1000000) + " Mpx a frame may have");
-    const json& K = requireKey(j, "K", source);
-    if (!K.is_array() || K.size() != 9) throw Error(source + ": metadata 'K' must hold 9 numbers");
-    // Column-major: K[0] = fx, K[4] = fy, K[6] = cx, K[7] = cy, K[8] = 1.
-    if (K[2].get<double>() != 0 || K[5].get<double>() != 0 || K[8].get<double>() != 1)
-      throw Error(source + ": metadata 'K' is not a column-major pinhole matrix: " + K.dump());
-    m.fx = K[0].get<float>();
-    m.fy = K[4].get<float>();
-    m.cx = K[6].get<float>();
-    m.cy = K[7].get<float>();
-    if (!(m.fx > 0 && m.fy > 0)) throw Error(source + ": metadata 'K' has no positive focal length");
-    if (j.contains("fps")) m.fps = j["fps"].get<double>();
-    if (j.contains("poses")) {
-      for (const json& p : j["poses"]) {
-        if (!p.is_array() || p.size() != 7)
-          throw Error(source + ": metadata pose " + std::to_string(m.T_world_cam.size()) +
-                      " must be [qx, qy, qz, qw, tx, ty, tz]");
-        std::array<double, 7> v;
-        for (int i = 0; i < 7; ++i) v[i] = p[i].get<double>();
-        m.T_world_cam.push_back(record3dPoseToCamera(v));
-      }
-    }
-    if (j.contains("frameTimestamps"))
-      m.timestamps_s = j["frameTimestamps"].get<std::vector<double>>();
-    m.world_up = record3dWorldUp(j, m, source);
-  } catch (const json::exception& e) {
-    throw Error(source + ": metadata has a field of the wrong type (" + e.what() + ")");
+  m.rgb_width = positiveInt(j, "w", source);
+  m.rgb_height = positiveInt(j, "h", source);
+  if (j.contains("dw") || j.contains("dh")) {
+    m.depth_width = positiveInt(j, "dw", source);
+    m.depth_height = positiveInt(j, "dh", source);
   }
+  for (const auto& [w, h, what] : {std::tuple{m.rgb_width, m.rgb_height, "w x h"},
+                                   std::tuple{m.depth_width, m.depth_height, "dw x dh"}})
+    if (uint64_t(w) * uint64_t(h) > kMaxImagePixels)
+      throw Error(source + ": metadata " + what + " = " + std::to_string(w) + "x" + std::to_string(h) +
+                  " is more than the " + std::to_string(kMaxImagePixels / 1000000) + " Mpx a frame may have");
+  // The depth map and the RGB image see the same field of view (K is scaled from one to the
+  // other): another aspect ratio means one of the two sizes is wrong, and depth would be read with
+  // the wrong row stride.
+  if (m.depth_width && aspectRatiosDiffer(m.depth_width, m.depth_height, m.rgb_width, m.rgb_height))
+    throw Error(source + ": dw x dh = " + std::to_string(m.depth_width) + "x" + std::to_string(m.depth_height) +
+                " and w x h = " + std::to_string(m.rgb_width) + "x" + std::to_string(m.rgb_height) +
+                " have different aspect ratios; depth and colour of a capture cover the same view");
+  const json& K = jsonArray(requireKey(j, "K", source), 9, "K", source);
+  float k[9];
+  for (size_t i = 0; i < 9; ++i) k[i] = jsonFloat(K[i], "K[" + std::to_string(i) + "]", source);
+  // Column-major: K[0] = fx, K[4] = fy, K[6] = cx, K[7] = cy, K[8] = 1.
+  if (k[1] != 0 || k[2] != 0 || k[3] != 0 || k[5] != 0 || k[8] != 1)
+    throw Error(source + ": metadata 'K' is not a column-major pinhole matrix [fx, 0, 0, 0, fy, 0, cx, cy, 1]: " +
+                K.dump());
+  m.fx = k[0], m.fy = k[4], m.cx = k[6], m.cy = k[7];
+  // K is for the RGB image: checked here, where its file is known (core/camera_check.h).
+  const std::string problem = cameraProblem({m.fx, m.fy, m.cx, m.cy, m.rgb_width, m.rgb_height});
+  if (!problem.empty())
+    throw Error(source + ": 'K' (for the " + std::to_string(m.rgb_width) + "x" +
+                std::to_string(m.rgb_height) + " RGB image): " + problem);
+  if (j.contains("fps")) m.fps = jsonNumber(j["fps"], "fps", source);
+  if (j.contains("poses")) {
+    const json& poses = jsonArray(j["poses"], -1, "poses", source);
+    for (size_t i = 0; i < poses.size(); ++i) {
+      const std::string field = "poses[" + std::to_string(i) + "]";
+      const std::array<double, 7> v = poseNumbers(poses[i], field, source);
+      const std::string quaternion = quaternionProblem(v);
+      if (!quaternion.empty())
+        throw Error(source + ": '" + field + "' (the pose of frame " + std::to_string(i) + "): " + quaternion);
+      m.T_world_cam.push_back(record3dPoseToCamera(v));
+    }
+  }
+  if (j.contains("frameTimestamps")) {
+    const json& t = jsonArray(j["frameTimestamps"], -1, "frameTimestamps", source);
+    for (size_t i = 0; i < t.size(); ++i)
+      m.timestamps_s.push_back(jsonNumber(t[i], "frameTimestamps[" + std::to_string(i) + "]", source));
+    requireDistinctTimes(m.timestamps_s, source);
+  }
+  m.world_up = record3dWorldUp(j, m, source);
   if (m.timestamps_s.empty() && !(m.fps > 0))
     throw Error(source + ": metadata has neither 'frameTimestamps' nor a positive 'fps'");
   return m;
@@ -140,10 +190,19 @@ double record3dTimestamp(const Record3dMetadata& m, int index) {
   return m.fps > 0 ? double(index) / m.fps : 0.0;
 }
 
-ColorImage decodeColorAtResolution(const std::vector<uint8_t>& encoded, int width, int height,
-                                   const std::string& what) {
+void requireRecord3dColorSize(int width, int height, const Record3dMetadata& meta, const std::string& what) {
+  if (width == meta.rgb_width && height == meta.rgb_height) return;
+  throw Error(what + ": the colour image is " + std::to_string(width) + "x" + std::to_string(height) +
+              " but the metadata says w x h = " + std::to_string(meta.rgb_width) + "x" +
+              std::to_string(meta.rgb_height) + " (its K and the depth size are for that size)");
+}
+
+ColorImage decodeColorAtResolution(const std::vector<uint8_t>& encoded, const Record3dMetadata& meta, int width,
+                                   int height, const std::string& what) {
   // The project's codec: the header's size is checked before anything is allocated, and a
   // truncated or corrupt image is an error (OpenCV's imdecode returned a grey-ended picture).
+  const ImageHeader header = decodeImageHeader(encoded.data(), encoded.size(), what);
+  requireRecord3dColorSize(header.width, header.height, meta, what);
   ColorImage decoded = decodeColorImage(encoded.data(), encoded.size(), what, "colour image");
   if (decoded.width() == width && decoded.height() == height) return decoded;
   const cv::Mat full(decoded.height(), decoded.width(), CV_8UC4, decoded.data());
@@ -281,6 +340,13 @@ Record3dCapture::Record3dCapture(const std::string& path, Record3dOptions option
     meta_.depth_width = w;
     meta_.depth_height = h;
   }
+  // Frame 0's colour size against the metadata, before anything is read with it.
+  if (zip_->contains(colorEntry(0))) {
+    const std::vector<uint8_t> jpg = zip_->read(colorEntry(0), 256 << 20);
+    const std::string what = path + ": entry '" + colorEntry(0) + "'";
+    const ImageHeader header = decodeImageHeader(jpg.data(), jpg.size(), what);
+    requireRecord3dColorSize(header.width, header.height, meta_, what);
+  }
   depth_intrinsics_ = scaleRecord3dIntrinsics(meta_, meta_.depth_width, meta_.depth_height);
 }
 
@@ -324,7 +390,7 @@ RgbdFrame Record3dCapture::load(int index) const {
     const std::string entry = colorEntry(index);
     int cw = 0, ch = 0;
     record3dColorSize(meta_, w, h, cw, ch);
-    frame.color = decodeColorAtResolution(zip_->read(entry, 256 << 20), cw, ch, path_ + ": entry '" + entry + "'");
+    frame.color = decodeColorAtResolution(zip_->read(entry, 256 << 20), meta_, cw, ch, path_ + ": entry '" + entry + "'");
   }
   if (size_t(index) < meta_.T_world_cam.size()) frame.T_world_cam_given = meta_.T_world_cam[index];
   return frame;

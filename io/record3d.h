@@ -61,11 +61,17 @@ inline void record3dColorSize(const Record3dMetadata& m, int depth_width, int de
   height = larger ? m.rgb_height : depth_height;
 }
 
-// Decodes a JPEG/PNG (bytes) and area-averages it to width x height. The RGB and depth images of
-// a capture cover the same field of view (same optical centre once K is scaled), so each depth
-// pixel gets the mean colour of the RGB pixels it covers. `what` names the file in errors.
-ColorImage decodeColorAtResolution(const std::vector<uint8_t>& encoded, int width, int height,
-                                   const std::string& what);
+// Throws vf::Error naming `what` and both sizes unless a colour image of width x height is what
+// the metadata says (w x h): K is for that size, and a capture without dw/dh has its depth size
+// worked out from it, so another size means a wrong camera or depth read with a wrong row stride.
+void requireRecord3dColorSize(int width, int height, const Record3dMetadata& meta, const std::string& what);
+
+// Decodes a JPEG/PNG (bytes) of the metadata's RGB size (requireRecord3dColorSize) and
+// area-averages it to width x height. The RGB and depth images of a capture cover the same field
+// of view (same optical centre once K is scaled), so each depth pixel gets the mean colour of the
+// RGB pixels it covers. `what` names the file in errors.
+ColorImage decodeColorAtResolution(const std::vector<uint8_t>& encoded, const Record3dMetadata& meta, int width,
+                                   int height, const std::string& what);
 
 // Zeroes depth that is not finite or not positive, and where confidence < min_confidence
 // (confidence may be null when the capture has none); divides the rest by units_per_metre.

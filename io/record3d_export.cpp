@@ -8,6 +8,7 @@
 #include <mutex>
 
 #include "core/error.h"
+#include "io/frame_list_source.h"
 #include "io/image_codec.h"
 #include "io/opencv_plugin.h"
 #include "core/mapped_file.h"
@@ -94,6 +95,16 @@ Record3dExport::Record3dExport(const std::string& folder, Record3dOptions option
                 std::to_string(meta_.depth_width) + "x" + std::to_string(meta_.depth_height));
   meta_.depth_width = first.width();
   meta_.depth_height = first.height();
+  if (aspectRatiosDiffer(first.width(), first.height(), meta_.rgb_width, meta_.rgb_height))
+    throw Error(depthPath(0) + ": depth is " + std::to_string(first.width()) + "x" + std::to_string(first.height()) +
+                " but metadata.json says w x h = " + std::to_string(meta_.rgb_width) + "x" +
+                std::to_string(meta_.rgb_height) + ", another aspect ratio; depth and colour cover the same view");
+  // Frame 0's colour size against the metadata, before anything is read with it.
+  if (fs::exists(colorPath(0))) {
+    const std::vector<uint8_t> color = readBytes(colorPath(0));
+    const ImageHeader header = decodeImageHeader(color.data(), color.size(), colorPath(0));
+    requireRecord3dColorSize(header.width, header.height, meta_, colorPath(0));
+  }
   depth_intrinsics_ = scaleRecord3dIntrinsics(meta_, first.width(), first.height());
 }
 
@@ -102,7 +113,8 @@ std::string Record3dExport::depthPath(int i) const {
 }
 std::string Record3dExport::colorPath(int i) const {
   const fs::path jpg = fs::path(folder_) / color_dir_ / (std::to_string(i) + ".jpg");
-  if (fs::exists(jpg)) return jpg.string();
+  std::error_code ec;
+  if (fs::exists(fs::symlink_status(jpg, ec))) return jpg.string();  // a dangling link too: named when read
   return (fs::path(folder_) / color_dir_ / (std::to_string(i) + ".png")).string();
 }
 std::string Record3dExport::confPath(int i) const {
@@ -129,10 +141,13 @@ RgbdFrame Record3dExport::load(int index) const {
                       options_.min_confidence, options_.depth_units_per_metre);
   if (options_.load_color) {
     const std::string path = colorPath(index);
-    if (!fs::exists(path)) throw Error(path + ": colour image missing");
+    if (!fs::exists(path))
+      throw Error(path + ": colour image missing" +
+                  (fs::is_symlink(path) ? " (a link to " + fs::read_symlink(path).string() + ", which does not exist)"
+                                        : std::string()));
     int cw = 0, ch = 0;
     record3dColorSize(meta_, w, h, cw, ch);
-    frame.color = decodeColorAtResolution(readBytes(path), cw, ch, path);
+    frame.color = decodeColorAtResolution(readBytes(path), meta_, cw, ch, path);
   }
   if (size_t(index) < meta_.T_world_cam.size()) frame.T_world_cam_given = meta_.T_world_cam[index];
   return frame;

@@ -7,41 +7,54 @@
 #include "core/error.h"
 #include "io/dataset_layouts.h"
 #include "io/dataset_text.h"
+#include "io/frame_order.h"
+#include "io/json_fields.h"
 
 namespace vf {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::vector<fs::path> sortedImages(const fs::path& dir) {
-  std::vector<fs::path> out;
+// The images of `dir` in frame-number order (io/frame_order.h), dangling links included so that
+// FrameListSource names them instead of the pairing going silently wrong.
+std::vector<fs::path> imagesByNumber(const fs::path& dir) {
+  std::vector<std::string> names;
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
     const std::string ext = entry.path().extension().string();
-    if (entry.is_regular_file() && (ext == ".png" || ext == ".jpg" || ext == ".jpeg")) out.push_back(entry.path());
+    std::error_code type_ec;
+    if ((entry.is_regular_file(type_ec) || entry.is_symlink(type_ec)) && (ext == ".png" || ext == ".jpg" || ext == ".jpeg"))
+      names.push_back(entry.path().filename().string());
   }
-  std::sort(out.begin(), out.end());
+  sortByFrameNumber(names, dir.string());
+  std::vector<fs::path> out;
+  for (const std::string& name : names) out.push_back(dir / name);
   return out;
 }
 
 fs::path colorFolder(const fs::path& dir) { return fs::is_directory(dir / "color") ? dir / "color" : dir / "image"; }
 
-// Open3D's PinholeCameraIntrinsic JSON: width, height, intrinsic_matrix (3x3 column-major).
-void readOpen3dIntrinsics(const fs::path& path, FrameList& list) {
-  try {
-    const nlohmann::json j = nlohmann::json::parse(readTextFile(path.string(), 1 << 20));
-    const std::vector<double> k = j.at("intrinsic_matrix").get<std::vector<double>>();
-    if (k.size() != 9) throw Error(path.string() + ": 'intrinsic_matrix' must hold 9 numbers");
-    list.expected_width = j.at("width").get<int>();
-    list.expected_height = j.at("height").get<int>();
-    list.fx = float(k[0]), list.fy = float(k[4]), list.cx = float(k[6]), list.cy = float(k[7]);
-  } catch (const nlohmann::json::exception& e) {
-    throw Error(path.string() + ": expected Open3D's {\"width\", \"height\", \"intrinsic_matrix\"} (" + e.what() + ")");
-  }
-  list.intrinsics_source = path.string();
-}
-
 }  // namespace
+
+void parseOpen3dIntrinsics(const std::string& text, const std::string& source, FrameList& list) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(source + ": not valid JSON; expected Open3D's {\"width\", \"height\", \"intrinsic_matrix\"} (" +
+                e.what() + ")");
+  }
+  const nlohmann::json& k = jsonArray(jsonMember(j, "intrinsic_matrix", "intrinsic_matrix", source), 9,
+                                      "intrinsic_matrix", source);
+  float m[9];
+  for (size_t i = 0; i < 9; ++i) m[i] = jsonFloat(k[i], "intrinsic_matrix[" + std::to_string(i) + "]", source);
+  list.expected_width = jsonInteger(jsonMember(j, "width", "width", source), 1, 100000, "width", source);
+  list.expected_height = jsonInteger(jsonMember(j, "height", "height", source), 1, 100000, "height", source);
+  if (m[1] != 0 || m[2] != 0 || m[3] != 0 || m[5] != 0 || m[8] != 1)
+    throw Error(source + ": 'intrinsic_matrix' is not a column-major pinhole matrix [fx, 0, 0, 0, fy, 0, cx, cy, 1]");
+  list.fx = m[0], list.fy = m[4], list.cx = m[6], list.cy = m[7];
+  list.intrinsics_source = source;
+}
 
 bool looksLikeRedwood(const std::string& folder) {
   const fs::path dir(folder);
@@ -56,16 +69,17 @@ FrameList readRedwood(const std::string& folder, const LayoutOptions& options) {
   list.depth_units_per_metre = 1000;
   list.depth_scale_source = "millimetres, as Redwood stores depth";
   if (fs::exists(dir / "camera-intrinsics.json")) {
-    readOpen3dIntrinsics(dir / "camera-intrinsics.json", list);
+    const std::string json = (dir / "camera-intrinsics.json").string();
+    parseOpen3dIntrinsics(readTextFile(json, 1 << 20), json, list);
   } else {
     list.fx = list.fy = 525.f, list.cx = 319.5f, list.cy = 239.5f;
     list.intrinsics_source = "PrimeSense's 525, 525, 319.5, 239.5 (no camera-intrinsics.json)";
   }
-  const std::vector<fs::path> depth = sortedImages(dir / "depth");
-  const std::vector<fs::path> color = sortedImages(colorFolder(dir));
+  const std::vector<fs::path> depth = imagesByNumber(dir / "depth");
+  const std::vector<fs::path> color = imagesByNumber(colorFolder(dir));
   if (!color.empty() && color.size() != depth.size())
     throw Error(folder + ": " + std::to_string(depth.size()) + " depth images but " + std::to_string(color.size()) +
-                " colour images in " + colorFolder(dir).string() + " (they pair by sorted name)");
+                " colour images in " + colorFolder(dir).string() + " (they pair in frame-number order)");
   std::vector<fs::path> logs;
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(dir, ec))

@@ -7,35 +7,42 @@
 #include "core/error.h"
 #include "io/dataset_layouts.h"
 #include "io/dataset_text.h"
+#include "io/json_fields.h"
 
 namespace vf {
 namespace {
 
 namespace fs = std::filesystem;
 
-// cam_params.json: {"camera": {"w", "h", "fx", "fy", "cx", "cy", "scale"}} (NICE-SLAM's export).
 void readCamParams(const fs::path& path, FrameList& list) {
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(readTextFile(path.string(), 1 << 20));
-    const nlohmann::json& c = j.at("camera");
-    list.expected_width = c.at("w").get<int>();
-    list.expected_height = c.at("h").get<int>();
-    list.fx = c.at("fx").get<float>(), list.fy = c.at("fy").get<float>();
-    list.cx = c.at("cx").get<float>(), list.cy = c.at("cy").get<float>();
-    list.depth_units_per_metre = c.at("scale").get<float>();
-  } catch (const nlohmann::json::exception& e) {
-    throw Error(path.string() + ": expected {\"camera\": {\"w\", \"h\", \"fx\", \"fy\", \"cx\", \"cy\", \"scale\"}} (" +
-                e.what() + ")");
-  }
-  if (list.expected_width <= 0 || list.expected_height <= 0 || list.expected_width > 100000 ||
-      list.expected_height > 100000)
-    throw Error(path.string() + ": camera w and h must be positive image sizes");
-  list.intrinsics_source = path.string();
-  list.depth_scale_source = path.string() + " 'scale'";
+  parseReplicaCamParams(readTextFile(path.string(), 1 << 20), path.string(), list);
 }
 
 }  // namespace
+
+void parseReplicaCamParams(const std::string& text, const std::string& source, FrameList& list) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(source + ": not valid JSON; expected {\"camera\": {\"w\", \"h\", \"fx\", \"fy\", \"cx\", \"cy\", "
+                "\"scale\"}} (" + e.what() + ")");
+  }
+  const nlohmann::json& c = jsonMember(j, "camera", "camera", source);
+  auto field = [&](const char* key) -> const nlohmann::json& {
+    return jsonMember(c, key, std::string("camera.") + key, source);
+  };
+  list.expected_width = jsonInteger(field("w"), 1, 100000, "camera.w", source);
+  list.expected_height = jsonInteger(field("h"), 1, 100000, "camera.h", source);
+  list.fx = jsonFloat(field("fx"), "camera.fx", source), list.fy = jsonFloat(field("fy"), "camera.fy", source);
+  list.cx = jsonFloat(field("cx"), "camera.cx", source), list.cy = jsonFloat(field("cy"), "camera.cy", source);
+  list.depth_units_per_metre = jsonFloat(field("scale"), "camera.scale", source);
+  if (!(list.depth_units_per_metre > 0))
+    throw Error(source + ": 'camera.scale' must be a positive number of depth units per metre, got " +
+                field("scale").dump());
+  list.intrinsics_source = source;
+  list.depth_scale_source = source + " 'scale'";
+}
 
 bool looksLikeReplica(const std::string& folder) {
   const fs::path dir(folder);
@@ -71,8 +78,7 @@ FrameList readReplica(const std::string& folder, const LayoutOptions& options) {
     FrameFiles f;
     f.name = "frame" + digits;
     f.depth = (dir / "results" / ("depth" + digits + ".png")).string();
-    for (const char* ext : {".jpg", ".png"})
-      if (fs::exists(dir / "results" / (f.name + ext))) f.color = (dir / "results" / (f.name + ext)).string();
+    f.color = presentFile({(dir / "results" / (f.name + ".png")).string(), (dir / "results" / (f.name + ".jpg")).string()});
     f.T_world_cam = poses[size_t(number)];
     f.timestamp = double(number) / kDatasetFrameRateHz;
     list.frames.push_back(std::move(f));

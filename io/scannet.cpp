@@ -38,10 +38,9 @@ FrameList readScanNet(const std::string& folder, const LayoutOptions& options) {
     FrameFiles f;
     f.name = stem;
     f.depth = (dir / "depth" / (stem + ".png")).string();
-    for (const char* ext : {".jpg", ".png"})
-      if (fs::exists(dir / "color" / (stem + ext))) f.color = (dir / "color" / (stem + ext)).string();
-    const fs::path pose = dir / "pose" / (stem + ".txt");
-    if (fs::exists(pose)) f.T_world_cam = readPoseMatrixFile(pose.string());  // -inf (lost): none
+    f.color = presentFile({(dir / "color" / (stem + ".png")).string(), (dir / "color" / (stem + ".jpg")).string()});
+    const std::string pose = presentFile({(dir / "pose" / (stem + ".txt")).string()});
+    if (!pose.empty()) f.T_world_cam = readPoseMatrixFile(pose);  // -inf (lost): none
     f.timestamp = double(n.number) / kDatasetFrameRateHz;
     list.frames.push_back(std::move(f));
   }

@@ -51,10 +51,9 @@ FrameList readSevenScenes(const std::string& folder, const LayoutOptions& option
     FrameFiles f;
     f.name = stem;
     f.depth = (dir / (stem + ".depth.png")).string();
-    for (const char* ext : {".color.png", ".color.jpg"})
-      if (fs::exists(dir / (stem + ext))) f.color = (dir / (stem + ext)).string();
-    const fs::path pose = dir / (stem + ".pose.txt");
-    if (fs::exists(pose)) f.T_world_cam = readPoseMatrixFile(pose.string());
+    f.color = presentFile({(dir / (stem + ".color.jpg")).string(), (dir / (stem + ".color.png")).string()});
+    const std::string pose = presentFile({(dir / (stem + ".pose.txt")).string()});
+    if (!pose.empty()) f.T_world_cam = readPoseMatrixFile(pose);
     f.timestamp = double(number) / kDatasetFrameRateHz;
     list.frames.push_back(std::move(f));
   }

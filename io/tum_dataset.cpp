@@ -7,8 +7,10 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <numeric>
 #include <sstream>
 
+#include "core/camera_check.h"
 #include "core/error.h"
 #include "core/text_fields.h"
 #include "core/mapped_file.h"
@@ -50,6 +52,12 @@ std::string headerComments(const std::string& path) {
 std::string seconds(double s) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g s", s);
+  return buf;
+}
+
+std::string tumTimestampText(double t) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.6f", t);
   return buf;
 }
 
@@ -152,10 +160,65 @@ std::vector<TimedFile> readTumFileList(const std::string& path) {
     if (f.size() < 2 || !parseNumber(f[0], t.timestamp))
       throw Error(path + ":" + std::to_string(line_no) + ": expected 'timestamp filename'");
     t.path = f[1];
+    t.line = line_no;
     files.push_back(t);
   }
   if (files.empty()) throw Error("TUM file list " + path + " lists no images");
   return files;
+}
+
+void requireDistinctTimestamps(const std::vector<TimedFile>& files, const std::string& list) {
+  std::vector<size_t> order(files.size());
+  std::iota(order.begin(), order.end(), size_t(0));
+  // Microseconds, as the lists and the trajectory written are: two times that print alike are one.
+  auto micro = [&](size_t i) {
+    const double us = std::round(files[i].timestamp * 1e6);
+    return std::isfinite(us) ? us : files[i].timestamp;
+  };
+  std::sort(order.begin(), order.end(),
+            [&](size_t a, size_t b) { return micro(a) < micro(b) || (micro(a) == micro(b) && a < b); });
+  for (size_t k = 1; k < order.size(); ++k) {
+    const size_t a = order[k - 1], b = order[k];  // a listed before b: ties are sorted by index
+    if (micro(a) == micro(b))
+      throw Error(list + ":" + std::to_string(files[a].line) + " and line " + std::to_string(files[b].line) +
+                  " list the same timestamp " + tumTimestampText(files[b].timestamp) +
+                  "; each time may be listed once");
+  }
+}
+
+std::vector<int> nearestInTime(const std::vector<double>& times, const std::vector<double>& candidates,
+                               double max_difference_s, bool prefer_last) {
+  std::vector<int> order(candidates.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return candidates[size_t(a)] < candidates[size_t(b)] || (candidates[size_t(a)] == candidates[size_t(b)] && a < b);
+  });
+  std::vector<double> sorted(order.size());
+  for (size_t k = 0; k < order.size(); ++k) sorted[k] = candidates[size_t(order[k])];
+  std::vector<int> out(times.size(), -1);
+  for (size_t i = 0; i < times.size(); ++i) {
+    const double t = times[i];
+    const size_t at = size_t(std::lower_bound(sorted.begin(), sorted.end(), t) - sorted.begin());
+    // The nearest are just below t and at or above it.
+    double best = max_difference_s;
+    int chosen = -1;
+    auto consider = [&](size_t k) {
+      const double d = std::abs(sorted[k] - t);
+      const int j = order[k];
+      if (d < best || (d == best && (chosen < 0 || (prefer_last ? j > chosen : j < chosen)))) best = d, chosen = j;
+    };
+    // A run of equal times is sorted by index: its first and last hold both tie rules' choices.
+    if (at < sorted.size()) {
+      const auto end = std::upper_bound(sorted.begin() + long(at), sorted.end(), sorted[at]);
+      consider(at), consider(size_t(end - sorted.begin()) - 1);
+    }
+    if (at > 0) {
+      const auto first = std::lower_bound(sorted.begin(), sorted.begin() + long(at), sorted[at - 1]);
+      consider(size_t(first - sorted.begin())), consider(at - 1);
+    }
+    out[i] = chosen;
+  }
+  return out;
 }
 
 TumDataset::TumDataset(const std::string& folder, TumOptions options)
@@ -166,6 +229,9 @@ TumDataset::TumDataset(const std::string& folder, TumOptions options)
   const std::vector<TimedFile> depth = readTumFileList(depth_list);
   const std::vector<TimedFile> rgb = readTumFileList(rgb_list);
 
+  requireDistinctTimestamps(depth, depth_list);
+  requireDistinctTimestamps(rgb, rgb_list);
+
   std::vector<double> depth_t, rgb_t;
   for (const TimedFile& f : depth) depth_t.push_back(f.timestamp);
   for (const TimedFile& f : rgb) rgb_t.push_back(f.timestamp);
@@ -175,11 +241,9 @@ TumDataset::TumDataset(const std::string& folder, TumOptions options)
     for (const auto& [d, c] : associateTimestamps(depth_t, rgb_t, options_.max_time_difference_s))
       partner[size_t(d)] = c;
   } else {
-    for (size_t i = 0; i < depth.size(); ++i) {
-      double best = options_.max_time_difference_s;
-      for (size_t j = 0; j < rgb.size(); ++j)
-        if (std::abs(rgb_t[j] - depth_t[i]) <= best) best = std::abs(rgb_t[j] - depth_t[i]), partner[i] = int(j);
-    }
+    // The nearest, shared or not; of two equally near the one listed later (the rule of the loop
+    // over every pair this replaces, kept so that no folder pairs differently).
+    partner = nearestInTime(depth_t, rgb_t, options_.max_time_difference_s, /*prefer_last=*/true);
   }
   for (size_t i = 0; i < depth.size(); ++i) {
     if (partner[i] >= 0) {
@@ -229,10 +293,20 @@ TumDataset::TumDataset(const std::string& folder, TumOptions options)
                 "; TUM depth must be registered to colour at the same size");
   intrinsics_ = {calibration_.fx, calibration_.fy, calibration_.cx, calibration_.cy, first_depth.width(),
                  first_depth.height()};
+  const std::string problem = cameraProblem(intrinsics_);
+  if (!problem.empty())
+    throw Error(calibration_.source + ": " + problem + " (the depth images, e.g. " + depthPath(0) + ", are " +
+                std::to_string(first_depth.width()) + "x" + std::to_string(first_depth.height()) + ")");
   if (options_.undistort && !calibration_.distortion.isZero()) undistorter_.emplace(intrinsics_, calibration_.distortion);
 
   const std::string gt_file = (fs::path(folder_) / "groundtruth.txt").string();
   if (fs::exists(gt_file)) ground_truth_ = readTumTrajectory(gt_file);
+  // Each frame's pose looked up once (poseNearTimestamp's rule: the nearest, the first listed of
+  // equally near ones), not by a scan of the whole ground truth per frame.
+  std::vector<double> frame_t, gt_t;
+  for (const Entry& e : frames_) frame_t.push_back(e.depth.timestamp);
+  for (const StampedPose& p : ground_truth_) gt_t.push_back(p.timestamp);
+  ground_truth_index_ = nearestInTime(frame_t, gt_t, options_.max_time_difference_s, /*prefer_last=*/false);
 }
 
 void TumDataset::checkIndex(int index) const {
@@ -267,7 +341,10 @@ std::string TumDataset::description() const {
 }
 
 std::optional<Pose> TumDataset::groundTruthAt(int index) const {
-  return poseNearTimestamp(ground_truth_, timestamp(index), options_.max_time_difference_s);
+  checkIndex(index);
+  const int at = ground_truth_index_[size_t(index)];
+  if (at < 0) return std::nullopt;
+  return ground_truth_[size_t(at)].T_world_cam;
 }
 
 RgbdFrame TumDataset::load(int index) const {

@@ -38,10 +38,24 @@ std::optional<Calibration> publishedTumCalibration(const std::string& hint);
 struct TimedFile {
   double timestamp = 0;
   std::string path;  // as written in the list, relative to the folder
+  int line = 0;      // in the list, for messages
 };
 // Reads a TUM file list ('#' comments); throws vf::Error naming the file when it is missing,
 // malformed (with its line) or empty.
 std::vector<TimedFile> readTumFileList(const std::string& path);
+
+// Throws vf::Error naming `list` and both lines when two entries share a timestamp (to the
+// microsecond a TUM file carries): a repeated depth.txt line would fuse one frame twice and write
+// a trajectory with two poses at one time, which `evaluate` refuses; in rgb.txt it makes the
+// pairing a guess. (One file at two times is left alone: it is two frames, however odd.)
+void requireDistinctTimestamps(const std::vector<TimedFile>& files, const std::string& list);
+
+// For each of `times`, the index into `candidates` of the one nearest in time within
+// max_difference_s (a difference of exactly max_difference_s included), -1 when none; among
+// equally near candidates the one listed last (`prefer_last`) or first. Sorted lists and a binary
+// search: n log n, where every pair cost minutes on long lists.
+std::vector<int> nearestInTime(const std::vector<double>& times, const std::vector<double>& candidates,
+                               double max_difference_s, bool prefer_last);
 
 struct TumOptions {
   std::optional<PinholeOverride> intrinsics;  // wins over every other source; no distortion
@@ -99,6 +113,7 @@ class TumDataset : public FrameSource {
   Intrinsics intrinsics_;
   std::optional<Undistorter> undistorter_;  // set when undistortion applies
   Trajectory ground_truth_;
+  std::vector<int> ground_truth_index_;  // per frame, into ground_truth_; -1 when none is near
   std::vector<std::string> warnings_;
   int unassociated_ = 0;
 };

@@ -13,7 +13,8 @@ seconds=${1:-600}
 shift || true
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
-  targets=(tum_list image lzfse r3d r3d_metadata class_table trajectory scene dataset_text ply checkpoint)
+  targets=(tum_list image lzfse r3d r3d_metadata class_table trajectory scene dataset_text ply checkpoint dataset_json
+           dataset_folder)
 fi
 
 if [ ! -f build-fuzz/build.ninja ]; then

@@ -102,7 +102,7 @@ def checkpoint(frames, with_classes, windowed, bricks, lost=()):
     def pose(tx=0.0, ty=0.0, tz=0.0):  # Eigen's column-major 4x4
         return struct.pack("<16d", 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, tx, ty, tz, 1)
     settings = [("dataset", "/data/seq"), ("dataset_frames", "10"), ("device", "cpu")]
-    out = b"VDBFUSE-CKPT\n\0\0\0" + struct.pack("<I", 3) + struct.pack("<I", len(settings))
+    out = b"VDBFUSE-CKPT\n\0\0\0" + struct.pack("<I", 4) + struct.pack("<I", len(settings))
     out += b"".join(string(k) + string(v) for k, v in settings)
     out += struct.pack("<ffB", 0.02, 0.1, 1 if with_classes else 0)
     out += struct.pack("<ii4f", 64, 48, 60.0, 60.0, 32.0, 24.0)
@@ -114,7 +114,11 @@ def checkpoint(frames, with_classes, windowed, bricks, lost=()):
     out += struct.pack("<B", 0) + pose()
     out += struct.pack("<iI", frames, frames)
     out += b"".join(struct.pack("<d", 0.033 * i) + pose(0.01 * i) for i in range(frames))
-    out += struct.pack("<I", len(lost)) + b"".join(string(s) for s in lost)
+    # lost frames: index, reason (2: too few inliers), name, report; then the session's state
+    # (empty: a run that has not started one), whether the last frame was fused, the last motion
+    out += struct.pack("<I", len(lost)) + b"".join(struct.pack("<iB", 1, 2) + string("1.png") + string(s)
+                                                   for s in lost)
+    out += struct.pack("<Q", 0) + struct.pack("<B", 1 if frames else 0) + pose()
     out += struct.pack("<I", len(bricks)) + b"".join(struct.pack("<3i", *b) for b in bricks)
     out += b"".join(struct.pack("<hH", (v % 64) * 256 - 8000, 1 + v % 3) for _ in bricks for v in range(512))
     out += b"".join(bytes([200, 100, 50, 255]) for _ in bricks for v in range(512))
@@ -126,3 +130,52 @@ def checkpoint(frames, with_classes, windowed, bricks, lost=()):
 put("checkpoint", "two_frames_windowed.bin", checkpoint(2, False, True, [(0, 0, 3), (1, 0, 3)]))
 put("checkpoint", "classes_lost_frame.bin", checkpoint(2, True, False, [(0, 0, 3)], ["frame 1: no model prediction yet"]))
 put("checkpoint", "empty.bin", checkpoint(0, False, False, []))
+
+
+# --- dataset layouts: their JSON camera files, and whole folders (fuzz_dataset_folder.cpp's format:
+# a layout byte, then "@@ path" lines each followed by the file's content)
+put("dataset_json", "cam_params.json", json.dumps({"camera": {"w": 1200, "h": 680, "fx": 600.0, "fy": 600.0,
+                                                              "cx": 599.5, "cy": 339.5, "scale": 6553.5}}))
+put("dataset_json", "camera-intrinsics.json", json.dumps({"width": 640, "height": 480, "intrinsic_matrix":
+                                                          [525.0, 0, 0, 0, 525.0, 0, 319.5, 239.5, 1]}))
+
+
+def folder(layout, files):
+    return bytes([layout]) + "".join(f"@@ {path}\n{content}\n" for path, content in files).encode()
+
+
+IDENTITY = "1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1"
+MOVED = "1 0 0 0.1\n0 1 0 0\n0 0 1 0\n0 0 0 1"
+put("dataset_folder", "seven_scenes", folder(0, [
+    ("scene/camera-intrinsics.txt", "40 0 15.5\n0 40 11.5\n0 0 1"),
+    ("scene/frame-000000.depth.png", "DEPTH 32 24 1500"), ("scene/frame-000000.color.png", "COLOR 32 24"),
+    ("scene/frame-000000.pose.txt", IDENTITY),
+    ("scene/frame-000001.depth.png", "DEPTH 32 24 1600"), ("scene/frame-000001.color.png", "COLOR 32 24"),
+    ("scene/frame-000001.pose.txt", MOVED)]))
+put("dataset_folder", "replica", folder(1, [
+    ("cam_params.json", '{"camera": {"w": 32, "h": 24, "fx": 40, "fy": 40, "cx": 15.5, "cy": 11.5, "scale": 6553.5}}'),
+    ("scene/traj.txt", "1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n1 0 0 0.1 0 1 0 0 0 0 1 0 0 0 0 1"),
+    ("scene/results/depth000000.png", "DEPTH 32 24 9000"), ("scene/results/frame000000.jpg", "COLOR 32 24"),
+    ("scene/results/depth000001.png", "DEPTH 32 24 9100"), ("scene/results/frame000001.jpg", "COLOR 32 24")]))
+put("dataset_folder", "seven_scenes_link", folder(0, [
+    ("scene/frame-000000.depth.png", "DEPTH 32 24 1500"), ("scene/frame-000000.color.png", "LINK gone.png"),
+    ("scene/frame-0.depth.png", "DEPTH 32 24 1500")]))
+put("dataset_folder", "scannet", folder(2, [
+    ("scene/intrinsic/intrinsic_depth.txt", "40 0 15.5 0\n0 40 11.5 0\n0 0 1 0\n0 0 0 1"),
+    ("scene/depth/0.png", "DEPTH 32 24 1500"), ("scene/color/0.jpg", "COLOR 64 48"), ("scene/pose/0.txt", IDENTITY),
+    ("scene/depth/2.png", "DEPTH 32 24 1500"), ("scene/color/2.jpg", "COLOR 64 48"),
+    ("scene/pose/2.txt", "-inf -inf -inf -inf\n-inf -inf -inf -inf\n-inf -inf -inf -inf\n-inf -inf -inf -inf"),
+    ("scene/depth/10.png", "DEPTH 32 24 1500"), ("scene/pose/10.txt", MOVED)]))
+put("dataset_folder", "redwood", folder(3, [
+    ("scene/camera-intrinsics.json", '{"width": 32, "height": 24, "intrinsic_matrix": [40, 0, 0, 0, 40, 0, 15.5, 11.5, 1]}'),
+    ("scene/depth/0.png", "DEPTH 32 24 1500"), ("scene/color/0.jpg", "COLOR 32 24"),
+    ("scene/depth/1.png", "DEPTH 32 24 1500"), ("scene/color/1.jpg", "COLOR 32 24"),
+    ("scene/depth/10.png", "DEPTH 32 24 1500"), ("scene/color/10.jpg", "COLOR 32 24"),
+    ("scene/trajectory.log", f"0 0 1\n{IDENTITY}\n2 2 3\n{MOVED}")]))
+put("dataset_folder", "tum", folder(4, [
+    ("scene/camera_intrinsics.txt", "# fx fy cx cy\n40 40 15.5 11.5\n0.1 0 0 0 0"),
+    ("scene/depth.txt", "# depth\n1.000000 depth/1.png\n1.033333 depth/2.png"),
+    ("scene/rgb.txt", "# rgb\n1.005 rgb/1.png\n1.040 rgb/2.png"),
+    ("scene/groundtruth.txt", "1.001 0 0 0 0 0 0 1\n1.034 0.1 0 0 0 0 0 1"),
+    ("scene/depth/1.png", "DEPTH 32 24 7500"), ("scene/depth/2.png", "DEPTH 32 24 7600"),
+    ("scene/rgb/1.png", "COLOR 32 24"), ("scene/rgb/2.png", "COLOR 32 24")]))

@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
+#include <cstdlib>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -107,6 +109,94 @@ TEST(TumDataset, ExclusivePairingLeavesOutAndReportsTheUnassociatedFrame) {
   EXPECT_TRUE(ds.depthDistortion().isZero());
 }
 
+// nearestInTime against the scan over every pair it replaced (the colour pairing: ties to the one
+// listed last) and poseNearTimestamp (ties to the first), on times with many exact ties and
+// unsorted lists.
+TEST(TumAssociation, NearestInTimeMatchesTheScanOverEveryPair) {
+  std::srand(35);
+  for (int trial = 0; trial < 200; ++trial) {
+    std::vector<double> times, candidates;
+    for (int i = 0; i < 1 + std::rand() % 30; ++i) times.push_back(std::rand() % 40);
+    for (int j = 0; j < std::rand() % 30; ++j) candidates.push_back(std::rand() % 40);
+    const double max_difference = std::rand() % 4;
+    for (const bool prefer_last : {true, false}) {
+      const std::vector<int> fast = nearestInTime(times, candidates, max_difference, prefer_last);
+      ASSERT_EQ(fast.size(), times.size());
+      for (size_t i = 0; i < times.size(); ++i) {
+        double best = max_difference;
+        int expected = -1;
+        for (size_t j = 0; j < candidates.size(); ++j) {
+          const double d = std::abs(candidates[j] - times[i]);
+          if (prefer_last ? d <= best : (d < best || (d == best && expected < 0))) best = d, expected = int(j);
+        }
+        EXPECT_EQ(fast[i], expected) << "trial " << trial << ", time " << times[i] << ", prefer_last " << prefer_last;
+      }
+    }
+  }
+}
+
+// Cause 11: the pairing compared every depth frame with every colour image; two lists of 200,000
+// lines (6 MB each) took minutes before the first frame. Only frame 0's images exist: opening
+// reads no other, and every depth line names frame 0's image.
+TEST(TumDataset, LongListsOpenInSeconds) {
+  const CraftedTum tum("tum_long_lists", {1000.0}, {1000.0});
+  constexpr int kLines = 200000;
+  std::string depth = "# depth maps\n", rgb = "# color images\n", gt = "# ground truth\n";
+  char line[128];
+  for (int i = 0; i < kLines; ++i) {
+    const double t = 1000.0 + i / 30.0;
+    const std::string name = i == 0 ? "1000.000000" : std::to_string(i);
+    std::snprintf(line, sizeof line, "%.6f depth/1000.000000.png\n", t);  // one file at every time: allowed
+    depth += line;
+    std::snprintf(line, sizeof line, "%.6f rgb/%s.png\n", t + (i == 0 ? 0 : 0.004), name.c_str());
+    rgb += line;
+    std::snprintf(line, sizeof line, "%.6f %d 0 0 0 0 0 1\n", t + 0.001, i);
+    gt += line;
+  }
+  std::ofstream(tum.dir + "/depth.txt") << depth;
+  std::ofstream(tum.dir + "/rgb.txt") << rgb;
+  std::ofstream(tum.dir + "/groundtruth.txt") << gt;
+  const auto start = std::chrono::steady_clock::now();
+  const TumDataset ds(tum.dir);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_LT(seconds, 20.0) << "n log n: about a second on an idle machine (the pairing of every pair: 48 s)";
+  ASSERT_EQ(ds.size(), kLines);
+  EXPECT_EQ(ds.colorPath(kLines - 1), tum.dir + "/rgb/" + std::to_string(kLines - 1) + ".png");
+  ASSERT_TRUE(ds.groundTruthAt(kLines - 1));
+  EXPECT_DOUBLE_EQ(ds.groundTruthAt(kLines - 1)->translation().x(), kLines - 1);
+}
+
+// Cause 12: a line repeated in depth.txt (or two lines of one time) fused that frame twice, and
+// `evaluate` then refused the trajectory written (two poses at one time).
+TEST(TumDataset, RepeatedTimesInTheListsAreRefusedNamingBothLines) {
+  const CraftedTum tum("tum_repeated_lines", {10.000, 10.033, 10.067}, {10.000, 10.033, 10.067});
+  std::ofstream(tum.dir + "/depth.txt", std::ios::app) << "10.033000 depth/10.033000.png\n";
+  std::string e = errorOf([&] { TumDataset ds(tum.dir); });
+  EXPECT_NE(e.find(tum.dir + "/depth.txt:4 and line 6 list the same timestamp 10.033000"), std::string::npos) << e;
+
+  // Times equal to the microsecond a TUM list (and the trajectory written) carries.
+  const CraftedTum close("tum_repeated_micro", {10.000, 10.033}, {10.000, 10.033});
+  std::ofstream(close.dir + "/depth.txt", std::ios::app) << "10.0330001 depth/10.033000b.png\n";
+  e = errorOf([&] { TumDataset ds(close.dir); });
+  EXPECT_NE(e.find("depth.txt:4 and line 5 list the same timestamp 10.033000"), std::string::npos) << e;
+
+  const CraftedTum color("tum_repeated_rgb", {10.000, 10.033}, {10.000, 10.033});
+  std::ofstream(color.dir + "/rgb.txt", std::ios::app) << "10.000000 rgb/10.033000.png\n";
+  e = errorOf([&] { TumDataset ds(color.dir); });
+  EXPECT_NE(e.find("rgb.txt:3 and line 5 list the same timestamp 10.000000"), std::string::npos) << e;
+}
+
+// Cause 19: a camera_intrinsics.txt the pipeline cannot fuse was reported as
+// "Intrinsics.cx (--intrinsics)", an option not given; the reader names the file.
+TEST(TumIntrinsics, ACameraFileThatCannotBeFusedNamesIt) {
+  const CraftedTum tum("tum_bad_camera", {1.0}, {1.0});
+  std::ofstream(tum.dir + "/camera_intrinsics.txt") << "# fx fy cx cy\n100 101 300 2.5\n";
+  const std::string e = errorOf([&] { TumDataset ds(tum.dir); });
+  EXPECT_NE(e.find(tum.dir + "/camera_intrinsics.txt: cx = 300 lies outside the 8-pixel-wide image"), std::string::npos)
+      << e;
+  EXPECT_EQ(e.find("--intrinsics"), std::string::npos) << e;
+}
+
 TEST(TumIntrinsics, ParseOverride) {
   const PinholeOverride o = parsePinholeOverride("525, 526.5,319.5,239.5");
   EXPECT_FLOAT_EQ(o.fx, 525.f);
@@ -138,11 +228,11 @@ TEST(TumIntrinsics, PriorityOverrideThenFileThenNameThenHeader) {
   const TumDataset overridden(with_file.dir, o);
   EXPECT_FLOAT_EQ(overridden.depthIntrinsics().fx, 200.f);
   EXPECT_EQ(overridden.calibration().source, "--intrinsics");
-  // No file: the folder name.
-  const CraftedTum by_name("tum_prio_freiburg3_name", {1.0}, {1.0}, 8, 6, false);
+  // No file: the folder name (images of the published camera's size, which it is checked against).
+  const CraftedTum by_name("tum_prio_freiburg3_name", {1.0}, {1.0}, 640, 480, false);
   EXPECT_FLOAT_EQ(TumDataset(by_name.dir).depthIntrinsics().fx, 535.4f);
   // No file, anonymous folder: the rgb.txt header.
-  const CraftedTum by_header("tum_prio_anonymous", {1.0}, {1.0}, 8, 6, false,
+  const CraftedTum by_header("tum_prio_anonymous", {1.0}, {1.0}, 640, 480, false,
                              "# color images\n# file: 'rgbd_dataset_freiburg2_desk.bag'\n");
   EXPECT_FLOAT_EQ(TumDataset(by_header.dir).depthIntrinsics().fx, 520.908620f);
   // Nothing at all: the error says what to pass.

@@ -81,6 +81,15 @@ TEST(Record3dExport, OpenRecord3dDetectsTheFormatFromThePath) {
   EXPECT_EQ(openRecord3d(r3d)->size(), 200);
 }
 
+// Issue 35, cause 10: colour of another size than metadata.json's w x h was stretched onto it.
+TEST(Record3dExport, ColourOfAnotherSizeThanTheMetadataIsRefused) {
+  const std::string dir = writeExport("r3d_export_rgb_size");
+  EXPECT_TRUE(cv::imwrite(dir + "/rgb/0.jpg", cv::Mat(8, 6, CV_8UC3, cv::Scalar(30, 120, 200))));
+  const std::string e = test::errorOf([&] { Record3dExport(dir).load(0); });
+  EXPECT_NE(e.find(dir + "/rgb/0.jpg: the colour image is 6x8 but the metadata says w x h = 8x6"), std::string::npos)
+      << e;
+}
+
 TEST(Record3dExport, MissingOrInconsistentFilesThrowNamingThem) {
   const std::string dir = writeExport("r3d_export_bad");
   fs::remove(dir + "/rgb/1.jpg");
