@@ -310,6 +310,10 @@ SurfaceScores scoreReconstruction(const Room& room, const SurfaceSamples& sample
   s.accuracy_mean_m = sum / double(distances.size());
   std::nth_element(distances.begin(), distances.begin() + long(distances.size() / 2), distances.end());
   s.accuracy_median_m = distances[distances.size() / 2];
+  // Nearest rank: the smallest distance at least 90 % of the vertices are within.
+  const size_t p90 = (9 * distances.size() + 9) / 10 - 1;  // ceil(0.9 n) - 1
+  std::nth_element(distances.begin(), distances.begin() + long(p90), distances.end());
+  s.accuracy_p90_m = distances[p90];
   s.precision = double(within) / double(distances.size());
   s.fscore = s.precision + s.completion > 0 ? 2 * s.precision * s.completion / (s.precision + s.completion) : 0;
   return s;

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "scene_builder.h"
+
 namespace vf::synth {
 namespace {
 
@@ -188,89 +190,17 @@ namespace {
 constexpr float kLengthX = 8.0f, kWidthY = 6.0f, kHeightZ = 2.6f;
 constexpr float kWallThickness = 0.25f;
 
-struct Builder {
-  Room& room;
-  int next_variant = 0;
-
-  void box(const std::string& name, float x0, float x1, float y0, float y1, float z0, float z1, Material m) {
-    Primitive p;
-    p.kind = Primitive::Kind::kBox;
-    p.lo = Vec3(x0, y0, z0);
-    p.hi = Vec3(x1, y1, z1);
-    p.material = m;
-    p.variant = next_variant++;
-    p.name = name;
-    room.primitives.push_back(p);
-  }
-  void sphere(const std::string& name, float x, float y, float z, float r, Material m) {
-    Primitive p;
-    p.kind = Primitive::Kind::kSphere;
-    p.center = Vec3(x, y, z);
-    p.radius = r;
-    p.lo = p.center - Vec3::Constant(r);
-    p.hi = p.center + Vec3::Constant(r);
-    p.material = m;
-    p.variant = next_variant++;
-    p.name = name;
-    room.primitives.push_back(p);
-  }
-  void cylinder(const std::string& name, float x, float y, float r, float z0, float z1, Material m) {
-    Primitive p;
-    p.kind = Primitive::Kind::kCylinder;
-    p.center = Vec3(x, y, 0.5f * (z0 + z1));
-    p.radius = r;
-    p.lo = Vec3(x - r, y - r, z0);
-    p.hi = Vec3(x + r, y + r, z1);
-    p.material = m;
-    p.variant = next_variant++;
-    p.name = name;
-    room.primitives.push_back(p);
-  }
-
-  // An opening in a wall: [s0, s1] along the wall, [z0, z1] in height.
-  struct Opening {
-    float s0, s1, z0, z1;
-  };
-  // A wall slab along x (along_x) or y, between `a0` and `a1` along it and `b0`..`b1` across,
-  // cut into boxes around its openings (sorted, not overlapping along the wall).
-  void wall(const std::string& name, bool along_x, float a0, float a1, float b0, float b1,
-            const std::vector<Opening>& openings) {
-    int piece = 0;
-    auto slab = [&](float s0, float s1, float z0, float z1) {
-      if (s1 - s0 <= 0 || z1 - z0 <= 0) return;
-      const std::string n = name + "_" + std::to_string(piece++);
-      if (along_x) box(n, s0, s1, b0, b1, z0, z1, Material::kWall);
-      else box(n, b0, b1, s0, s1, z0, z1, Material::kWall);
-    };
-    float cursor = a0;
-    for (const Opening& o : openings) {
-      slab(cursor, o.s0, 0, kHeightZ);
-      slab(o.s0, o.s1, 0, o.z0);
-      slab(o.s0, o.s1, o.z1, kHeightZ);
-      cursor = o.s1;
-    }
-    slab(cursor, a1, 0, kHeightZ);
-  }
-};
-
 }  // namespace
 
 Room makeRoom() {
   Room room;
   room.interior_lo = Vec3(0, 0, 0);
   room.interior_hi = Vec3(kLengthX, kWidthY, kHeightZ);
-  Builder b{room};
+  SceneBuilder b{room, kHeightZ};
   const float w = kWallThickness;
 
   // Shell: floor, ceiling, and the backs of the niches and of the door recess.
-  Primitive shell;
-  shell.kind = Primitive::Kind::kShell;
-  shell.lo = Vec3(-w, -w, 0);
-  shell.hi = Vec3(kLengthX + w, kWidthY + w, kHeightZ);
-  shell.material = Material::kShell;
-  shell.variant = b.next_variant++;
-  shell.name = "shell";
-  room.primitives.push_back(shell);
+  b.shell(Vec3(-w, -w, 0), Vec3(kLengthX + w, kWidthY + w, kHeightZ), Material::kShell);
 
   // Walls. West (x = 0): a picture niche above the sofa. East (x = 8): a window niche.
   // South (y = 0): the door recess. North (y = 6): plain, the bookcase stands there.

@@ -15,9 +15,12 @@ namespace vf::synth {
 using Vec3 = Eigen::Vector3f;
 
 // What a surface looks like (room_texture.h paints each one).
-// kShell paints the shell by its normal: floor boards, ceiling, brick in the niches.
+// kShell paints the shell by its normal: floor boards, ceiling, brick in the niches. The
+// corridor's materials (after kMetal) are weakly textured, as real corridors: low-contrast paint,
+// linoleum, white trim (kCorridorShell: linoleum floor, plain ceiling, painted recess backs).
 enum class Material {
   kShell, kWall, kDoor, kWood, kLightWood, kFabric, kBook, kPicture, kPainted, kCardboard, kBall, kPot, kFoliage, kMetal,
+  kCorridorShell, kCorridorWall, kTrim, kRadiator, kExtinguisher,
 };
 
 struct Primitive {

@@ -40,6 +40,10 @@ Pose cameraPose(double t) {
   const double pitch = 20 * kDeg + 4 * kDeg * std::sin(3 * a + 1) + 0.3 * kDeg * std::sin(9.0 * t);
   const double roll = 3 * kDeg * std::sin(2 * a + 2) + 0.3 * kDeg * std::sin(8.0 * t + 2);
 
+  return headingPose(position, yaw, pitch, roll);
+}
+
+Pose headingPose(const Eigen::Vector3d& position, double yaw, double pitch, double roll) {
   const Eigen::Vector3d forward(std::cos(pitch) * std::cos(yaw), std::cos(pitch) * std::sin(yaw), -std::sin(pitch));
   const Eigen::Vector3d right0(std::sin(yaw), -std::cos(yaw), 0);  // horizontal
   const Eigen::Vector3d down0 = forward.cross(right0);

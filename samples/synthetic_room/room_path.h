@@ -19,6 +19,10 @@ Intrinsics kinectIntrinsics(int width = 640, int height = 480);
 // T_world_cam (camera x right, y down, z forward; world z up) at time t_s after the first frame.
 Pose cameraPose(double t_s);
 
+// T_world_cam of a camera at `position` looking along heading `yaw` (radians from world +x
+// towards +y), `pitch` below the horizon, rolled by `roll` about its optical axis.
+Pose headingPose(const Eigen::Vector3d& position, double yaw, double pitch, double roll);
+
 // The poses of frames 0..frames-1, 1/30 s apart from kFirstTimestamp_s.
 Trajectory cameraPath(int frames);
 double frameTimestamp(int index);

@@ -95,6 +95,26 @@ CleanView renderClean(const Room& room, const Intrinsics& k, const Pose& T) {
 
 float axialSigma(float z) { return 0.0012f + 0.0019f * (z - 0.4f) * (z - 0.4f); }
 
+SensorModel kinectV1Sensor() {
+  SensorModel s;
+  s.disparity_step_per_m = 2.85e-3f;
+  s.bias_per_m = 3e-3f;
+  return s;
+}
+
+float depthBiasPattern(int x, int y, int width, int height) {
+  const float u = 2.f * (float(x) + 0.5f) / float(width) - 1.f, v = 2.f * (float(y) + 0.5f) / float(height) - 1.f;
+  const float bowl = 1.5f * (0.5f * (u * u + v * v) - 1.f / 3.f);  // mean 0 over the image
+  const float tilt = 0.5f * std::sin(2.3f * u + 0.7f) * std::cos(1.9f * v - 0.4f);
+  const float grain = 0.25f * (2.f * unitFloat(hash4(0xB1A5, uint64_t(x), uint64_t(y), 0)) - 1.f);
+  return bowl + tilt + grain;
+}
+
+float quantiseDisparity(float z, float step_per_m) {
+  const double level = std::round(1.0 / (double(z) * double(step_per_m)));
+  return level > 0 ? float(1.0 / (level * double(step_per_m))) : 0.f;
+}
+
 void applySensor(const CleanView& view, const SensorModel& sensor, uint64_t seed, int frame_index, RgbdFrame& frame) {
   const int w = view.depth.width(), h = view.depth.height();
   frame.depth.resize(w, h, 0.f);
@@ -122,7 +142,9 @@ void applySensor(const CleanView& view, const SensorModel& sensor, uint64_t seed
       if (z < sensor.min_range_m || z > sensor.max_range_m) continue;
       if (view.cos_incidence[i] < min_cos) continue;
       if (float(base >> 48) * (1.f / 65536.f) < sensor.dropout_fraction) continue;
-      const float noisy = z + axialSigma(z) * gaussian(splitmix64(base));
+      const float biased = sensor.bias_per_m != 0.f ? z * (1.f + sensor.bias_per_m * depthBiasPattern(x, y, w, h)) : z;
+      float noisy = biased + axialSigma(z) * gaussian(splitmix64(base));
+      if (sensor.disparity_step_per_m > 0.f) noisy = quantiseDisparity(noisy, sensor.disparity_step_per_m);
       frame.depth(x, y) = std::round(noisy / sensor.depth_step_m) * sensor.depth_step_m;
     }
   });

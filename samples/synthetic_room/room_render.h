@@ -54,6 +54,12 @@ CleanView renderClean(const Room& room, const Intrinsics& k, const Pose& T_world
 // of incidence, a few random dropouts, and the 1/5000 m steps of a TUM depth PNG. Colour gets
 // mild Gaussian noise. With `noise` off the frame is the perfect camera's (every surface within
 // range, exact depth and colour).
+//
+// The defaults are the room's sensor. kinectV1Sensor() adds what a real Kinect v1 does on top
+// (Khoshelham and Elberink 2012; Smisek, Jancosek and Pajdla 2011): depth comes from a disparity
+// measured in steps, so it is rounded to the nearest step of 1/z, 2.85e-3 / m, which is
+// 2.85e-3 z^2 m in depth (2.9 mm at 1 m, 2.6 cm at 3 m); and each pixel reads a fixed few
+// millimetres per metre too far or too near (its depth distortion), the same in every frame.
 struct SensorModel {
   bool noise = true;
   float min_range_m = 0.4f, max_range_m = 4.5f;
@@ -61,8 +67,19 @@ struct SensorModel {
   float dropout_fraction = 0.004f;
   float color_sigma = 2.f;  // 8-bit levels
   float depth_step_m = 1.f / 5000.f;
+  float disparity_step_per_m = 0.f;  // > 0: depth rounded to the nearest step of 1/z first
+  float bias_per_m = 0.f;            // scale of depthBiasPattern: depth *= 1 + bias_per_m * pattern
 };
 float axialSigma(float z_m);
+SensorModel kinectV1Sensor();  // disparity steps of 2.85e-3 / m, bias scale 3 mm/m
+
+// The per-pixel depth distortion's shape, a function of the pixel only (the same in every frame,
+// for every seed; the same picture at any image size): a bowl, deeper towards the corners, a
+// smooth tilt, and a faint fixed per-pixel grain; between about -0.8 and 1.6.
+float depthBiasPattern(int x, int y, int width, int height);
+
+// z rounded to the nearest level 1 / (k step_per_m), k an integer: the disparity's steps.
+float quantiseDisparity(float z_m, float step_per_m);
 
 // The sensor's frame from the perfect view; noise is a function of (seed, frame_index, pixel).
 void applySensor(const CleanView& view, const SensorModel& sensor, uint64_t seed, int frame_index, RgbdFrame& frame);

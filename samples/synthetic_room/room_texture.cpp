@@ -71,6 +71,23 @@ Vec3 brickColor(float u, float v) {
   return Vec3(170, 75, 50) * tone;
 }
 
+// Low-contrast paint: a pale tint per facing direction (as light falls differently on each),
+// +-2.5 % mottling at 80 cm and +-1.5 levels of fine grain. Against 2 levels of colour noise
+// this is about as much as a real painted corridor wall gives the photometric term.
+Vec3 corridorPaint(float u, float v, const Vec3& n) {
+  const float shade = n.x() > 0.5f ? 1.0f : n.x() < -0.5f ? 0.97f : n.y() > 0.5f ? 0.985f : 0.955f;
+  const Vec3 base = Vec3(208, 204, 192) * shade;
+  return base * (0.96f + 0.05f * fbm(u, v, 0.8f, 61)) + Vec3::Constant(3.f * (valueNoise(u / 0.04f, v / 0.04f, 62) - 0.5f));
+}
+
+Vec3 corridorShellColor(float u, float v, const Vec3& n) {
+  if (n.z() > 0.5f)  // linoleum: grey-blue, mottled at 1 m, speckled at 1.5 cm (+-4 levels)
+    return Vec3(150, 155, 162) * (0.93f + 0.08f * fbm(u, v, 1.0f, 63)) +
+           Vec3::Constant(8.f * (valueNoise(u / 0.015f, v / 0.015f, 64) - 0.5f));
+  if (n.z() < -0.5f) return Vec3(236, 235, 230) * (0.97f + 0.03f * fbm(u, v, 1.0f, 65));  // ceiling
+  return corridorPaint(u, v, n);  // the backs of recesses and of the window niche
+}
+
 }  // namespace
 
 Vec3 surfaceColor(const Primitive& p, const Vec3& x, const Vec3& n) {
@@ -158,6 +175,20 @@ Vec3 surfaceColor(const Primitive& p, const Vec3& x, const Vec3& n) {
     case Material::kMetal: {
       const float a = std::atan2(x.y() - p.center.y(), x.x() - p.center.x());
       c = Vec3(150, 155, 165) * (0.7f + 0.3f * valueNoise(a * 3.f, x.z() / 0.04f, salt) + 0.1f * std::abs(n.z()));
+      break;
+    }
+    case Material::kCorridorShell: c = corridorShellColor(u, v, n); break;
+    case Material::kCorridorWall: c = corridorPaint(u, v, n); break;
+    case Material::kTrim:  // gloss white door frames and light fittings
+      c = Vec3(238, 236, 230) * (0.97f + 0.03f * valueNoise(u / 0.1f, v / 0.1f, salt));
+      break;
+    case Material::kRadiator:  // white, with the shadows between its fins every 5 cm
+      c = Vec3(225, 225, 220) * (std::fmod(std::abs(u), 0.05f) < 0.012f ? 0.72f : 1.f);
+      break;
+    case Material::kExtinguisher: {  // red, with a white label
+      c = Vec3(190, 30, 25) * (0.9f + 0.15f * valueNoise(x.z() / 0.05f, 0, salt));
+      const float h = (x.z() - p.lo.z()) / (p.hi.z() - p.lo.z());
+      if (h > 0.35f && h < 0.65f) c = Vec3(230, 228, 220) * (0.85f + 0.15f * valueNoise(u / 0.01f, v / 0.01f, salt));
       break;
     }
   }

@@ -1,5 +1,6 @@
-// vdbfuse-synth-room: writes the synthetic room scan as a TUM RGB-D folder with its ground-truth
-// mesh, or scores a reconstruction of it (completion of the seen surface, accuracy).
+// vdbfuse-synth-room: writes a synthetic scan (the room, or the ring corridor with --scene
+// corridor, and their stress variants) as a TUM RGB-D folder with its ground-truth mesh, or
+// scores a reconstruction of it (completion of the seen surface, accuracy).
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -10,6 +11,7 @@
 #include <mutex>
 #include <string>
 #include <system_error>
+#include <vector>
 
 #include "app/usage_errors.h"
 #include "core/atomic_output.h"
@@ -17,9 +19,12 @@
 #include "io/mesh_io.h"
 #include "io/trajectory_io.h"
 #include "io/tum_writer.h"
+#include "corridor_geometry.h"
+#include "corridor_path.h"
 #include "room_evaluation.h"
 #include "room_mesh.h"
 #include "room_source.h"
+#include "view_conditioning.h"
 
 namespace {
 
@@ -52,13 +57,14 @@ class RangeCountingSource : public FrameSource {
   RgbdFrame load(int index) const override {
     RgbdFrame frame = inner_.load(index);
     size_t in_range = 0;
+    if (inner_.blank(inner_.walkIndex(index))) return frame;  // a covered lens is meant to have nothing
     for (int y = 0; y < frame.depth.height(); ++y)
       for (int x = 0; x < frame.depth.width(); ++x) in_range += frame.depth(x, y) >= 0.4f && frame.depth(x, y) <= 4.f;
     const double share = double(in_range) / double(frame.depth.width() * frame.depth.height());
     std::lock_guard<std::mutex> lock(mutex_);
     if (share < min_share_) {
       min_share_ = share;
-      min_frame_ = index;
+      min_frame_ = inner_.walkIndex(index);  // frames are named by their walk index, as the runs are
     }
     return frame;
   }
@@ -74,18 +80,92 @@ class RangeCountingSource : public FrameSource {
 
 struct Options {
   std::string output, evaluate, trajectory, align = "ate", size = "640x480";
-  int frames = kDefaultFrames;
+  std::string scene = "room", depth_model;  // depth_model empty: the scene's
+  int frames = 0;                            // 0: the scene's
   uint64_t seed = 1;
   bool force = false, no_noise = false;
+  std::vector<std::string> gaps, blanks;
+  std::string close_wall;
   float threshold_m = 0.03f, spacing_m = 0.01f;
 };
 
-void generate(const Options& o) {
-  RoomScanOptions scan;
-  scan.frames = o.frames;
+// The scan the options name: the scene's defaults, then what was given. The evaluation builds
+// the same one, so it sees the scene through the frames that were written.
+RoomScanOptions scanOptions(const Options& o) {
+  RoomScanOptions scan = scanDefaults(parseScene(o.scene));
+  if (o.frames > 0) scan.frames = o.frames;
   scan.seed = o.seed;
+  if (o.depth_model == "tum") scan.sensor = SensorModel{};
+  if (o.depth_model == "kinect-v1") scan.sensor = kinectV1Sensor();
   scan.sensor.noise = !o.no_noise;
   parseSize(o.size, scan.width, scan.height);
+  for (const std::string& g : o.gaps) scan.gaps.push_back(parseFrameRange(g, "--gap"));
+  for (const std::string& b : o.blanks) scan.blanks.push_back(parseFrameRange(b, "--blank"));
+  if (!o.close_wall.empty()) scan.close_wall = parseFrameRange(o.close_wall, "--close-wall");
+  return scan;
+}
+
+// Runs of consecutive frame indices as "a-b, c, d-e".
+std::string runsText(const std::vector<int>& frames) {
+  std::string text;
+  for (size_t i = 0; i < frames.size();) {
+    size_t j = i;
+    while (j + 1 < frames.size() && frames[j + 1] == frames[j] + 1) ++j;
+    if (!text.empty()) text += ", ";
+    text += std::to_string(frames[i]) + (j > i ? "-" + std::to_string(frames[j]) : "");
+    i = j + 1;
+  }
+  return text.empty() ? "none" : text;
+}
+
+// Where each gap makes the camera jump, and which frames are blank.
+void reportRuns(const RoomScanSource& source) {
+  const RoomScanOptions& o = source.options();
+  const Trajectory& walk = source.walk();
+  for (const FrameRange& g : o.gaps) {
+    const Pose& a = walk[size_t(std::max(0, g.from - 1))].T_world_cam;
+    const Pose& b = walk[size_t(std::min(o.frames - 1, g.end()))].T_world_cam;
+    std::printf("gap          frames %d-%d left out: the camera jumps %.2f m and %.1f deg (t %.3f -> %.3f s)\n", g.from,
+                g.end() - 1, (b.translation() - a.translation()).norm(),
+                Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle() * 180.0 / M_PI,
+                walk[size_t(std::max(0, g.from - 1))].timestamp, walk[size_t(std::min(o.frames - 1, g.end()))].timestamp);
+  }
+  for (const FrameRange& b : o.blanks)
+    std::printf("blank        frames %d-%d written with no depth and black colour (a covered lens)\n", b.from, b.end() - 1);
+}
+
+// Which frames leave point-to-plane ICP a direction it cannot pin down (rendered at 80x60), and
+// which frames of a close-wall run see the wall alone.
+void reportViews(const RoomScanSource& source) {
+  const RoomScanOptions& o = source.options();
+  const Trajectory& walk = source.walk();
+  const Intrinsics small = kinectIntrinsics(80, 60);
+  std::vector<int> weak_one, weak_three, wall_only;
+  int with_depth = 0;
+  for (int w = 0; w < source.size(); ++w) {
+    const int i = source.walkIndex(w);
+    if (source.blank(i)) continue;
+    ++with_depth;
+    const CleanView view = renderClean(source.room(), small, walk[size_t(i)].T_world_cam);
+    const int weak = weakDirections(icpConditioning(source.room(), view, small, walk[size_t(i)].T_world_cam));
+    if (weak >= 1) weak_one.push_back(i);
+    if (weak >= 3) weak_three.push_back(i);
+    if (o.close_wall && o.close_wall->contains(i)) {
+      bool one = true;
+      for (size_t p = 0; p < view.primitive.size(); ++p) one = one && view.primitive[p] == view.primitive[0];
+      if (one && view.primitive[0] >= 0) wall_only.push_back(i);
+    }
+  }
+  if (o.close_wall)
+    std::printf("close wall   frames %d-%d turn to the outer wall at %.1f m; frames %s see nothing else\n", o.close_wall->from,
+                o.close_wall->end() - 1, kCloseWallDistance_m, runsText(wall_only).c_str());
+  std::printf("weak views   %zu of the %d frames with depth leave ICP a direction below 1e-3 of the strongest: %s\n",
+              weak_one.size(), with_depth, runsText(weak_one).c_str());
+  std::printf("             %zu leave three (one plane in view): %s\n", weak_three.size(), runsText(weak_three).c_str());
+}
+
+void generate(const Options& o) {
+  const RoomScanOptions scan = scanOptions(o);
   const RoomScanSource source(scan);
   const RangeCountingSource counting(source);
 
@@ -108,32 +188,49 @@ void generate(const Options& o) {
   const double frames_s = secondsSince(t0);
   const std::string mesh_path = (target / "groundtruth_mesh.ply").string();
 
-  const PathStats path = pathStats(source.groundTruth());
+  const PathStats path = pathStats(source.walk());
   const Intrinsics k = source.depthIntrinsics();
-  std::printf("room         8.0 x 6.0 x 2.6 m, %zu primitives (shell, wall slabs, furniture)\n",
-              source.room().primitives.size());
+  const bool corridor = scan.scene == Scene::kCorridor;
+  if (corridor)
+    std::printf("corridor     ring %.1f x %.1f x %.1f m round a %.0f x %.0f m block, %.0f m wide, %zu primitives\n",
+                CorridorLayout::kOuterX_m, CorridorLayout::kOuterY_m, CorridorLayout::kHeight_m,
+                CorridorLayout::kBlockX1_m - CorridorLayout::kBlockX0_m, CorridorLayout::kBlockY1_m - CorridorLayout::kBlockY0_m,
+                CorridorLayout::kWidth_m, source.room().primitives.size());
+  else
+    std::printf("room         8.0 x 6.0 x 2.6 m, %zu primitives (shell, wall slabs, furniture)\n",
+                source.room().primitives.size());
+  const char* sensor = !scan.sensor.noise                   ? ", no noise"
+                       : scan.sensor.disparity_step_per_m > 0 ? ", Kinect v1 depth (disparity steps, per-pixel bias)"
+                                                            : ", Kinect v1 noise";
   std::printf("camera       %dx%d, fx %.1f fy %.1f cx %.1f cy %.1f, %d frames at %.0f Hz, seed %llu%s\n", k.width,
-              k.height, k.fx, k.fy, k.cx, k.cy, written.frames, kFrameRateHz, (unsigned long long)o.seed,
-              o.no_noise ? ", no noise" : ", Kinect v1 noise");
+              k.height, k.fx, k.fy, k.cx, k.cy, written.frames, kFrameRateHz, (unsigned long long)o.seed, sensor);
   std::printf("path         %.2f m, turn %.1f deg, speed <= %.2f m/s, turn rate <= %.1f deg/s, height %.2f-%.2f m\n",
               path.length_m, path.turn_deg, path.max_speed_m_s, path.max_turn_rate_deg_s, path.min_height_m,
               path.max_height_m);
-  std::printf("depth        every frame has >= %.1f %% of its pixels at 0.4-4 m (fewest: frame %d)\n",
-              100.0 * counting.minShare(), counting.minFrame());
+  if (corridor) {
+    std::printf("loop         %.2f m round the centre line, back at the start after %.1f s (frame %d): %.2f loops walked\n",
+                corridorLoopLength_m(), corridorLoopTime_s(), int(std::lround(corridorLoopTime_s() * kFrameRateHz)),
+                path.length_m / corridorLoopLength_m());
+    reportViews(source);
+  }
+  reportRuns(source);
+  std::printf("depth        every frame%s has >= %.1f %% of its pixels at 0.4-4 m (fewest: frame %d)\n",
+              scan.blanks.empty() ? "" : " but the blank ones", 100.0 * counting.minShare(), counting.minFrame());
   std::printf("wrote        %s: rgb/ depth/ rgb.txt depth.txt groundtruth.txt (%d poses) camera_intrinsics.txt, in %.1f s\n",
               target.string().c_str(), written.poses, frames_s);
-  std::printf("wrote        %s (%zu vertices, %zu triangles, the room's frame as groundtruth.txt)\n", mesh_path.c_str(),
-              mesh.vertexCount(), mesh.triangleCount());
+  std::printf("wrote        %s (%zu vertices, %zu triangles, the %s's frame as groundtruth.txt)\n", mesh_path.c_str(),
+              mesh.vertexCount(), mesh.triangleCount(), sceneName(scan.scene).c_str());
 }
 
 void evaluate(const Options& o) {
-  int width = 0, height = 0;
-  parseSize(o.size, width, height);
+  const RoomScanSource source(scanOptions(o));
+  const int width = source.options().width, height = source.options().height;
   const auto t0 = std::chrono::steady_clock::now();
-  const Room room = makeRoom();
+  const Room& room = source.room();
   const SurfaceSamples samples = sampleSurface(room, o.spacing_m);
-  const Trajectory path = cameraPath(o.frames);
-  const std::vector<uint8_t> seen = markSeen(room, samples, path, kinectIntrinsics(width, height));
+  const Trajectory path = source.groundTruth();        // what the reconstruction's poses are aligned to
+  const Trajectory saw = source.depthPoses();          // what saw the scene (no gaps, no blanks)
+  const std::vector<uint8_t> seen = markSeen(room, samples, saw, kinectIntrinsics(width, height));
 
   std::string frame_note;  // scored as written, a z-up export would lie metres off
   TriangleMesh mesh = readPlyInSceneFrame(o.evaluate, &frame_note);
@@ -153,12 +250,13 @@ void evaluate(const Options& o) {
     std::printf("alignment       %s from %s: |t| %.3f m, rotation %.2f deg\n", o.align.c_str(), o.trajectory.c_str(),
                 t.norm(), Eigen::AngleAxisd(T.linear()).angle() * 180.0 / M_PI);
   }
-  std::printf("seen surface    %zu of %zu samples (%.1f m^2 at %.0f mm spacing) by %d frames at %dx%d\n", s.seen,
-              s.samples, double(s.seen) * cell_area, 1000.0 * o.spacing_m, o.frames, width, height);
+  std::printf("seen surface    %zu of %zu samples (%.1f m^2 at %.0f mm spacing) by %zu frames at %dx%d (%s)\n", s.seen,
+              s.samples, double(s.seen) * cell_area, 1000.0 * o.spacing_m, saw.size(), width, height,
+              source.description().c_str());
   std::printf("completion      %.2f %% of the seen surface within %.0f mm\n", 100.0 * s.completion, 1000.0 * s.threshold_m);
-  std::printf("accuracy        mean %.2f mm, median %.2f mm over %zu vertices; %.2f %% within %.0f mm\n",
-              1000.0 * s.accuracy_mean_m, 1000.0 * s.accuracy_median_m, s.vertices, 100.0 * s.precision,
-              1000.0 * s.threshold_m);
+  std::printf("accuracy        mean %.2f mm, median %.2f mm, 90th percentile %.2f mm over %zu vertices; %.2f %% within %.0f mm\n",
+              1000.0 * s.accuracy_mean_m, 1000.0 * s.accuracy_median_m, 1000.0 * s.accuracy_p90_m, s.vertices,
+              100.0 * s.precision, 1000.0 * s.threshold_m);
   std::printf("F-score         %.2f %%\n", 100.0 * s.fscore);
   // Which parts are missing most (by seen area not reconstructed).
   std::vector<size_t> order(room.primitives.size());
@@ -176,21 +274,39 @@ void evaluate(const Options& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"vdbfuse-synth-room: a synthetic RGB-D scan of an 8 x 6 x 2.6 m room with a known surface, "
-               "written as a TUM folder; or, with --evaluate, the completion and accuracy of a reconstruction of it"};
+  CLI::App app{"vdbfuse-synth-room: a synthetic RGB-D scan with a known surface and known poses (an 8 x 6 x 2.6 m "
+               "room, or a 38 m walk round a ring corridor), written as a TUM folder; or, with --evaluate, the completion and "
+               "accuracy of a reconstruction of it (give the same scan options as when it was written)"};
   Options o;
   app.add_option("output", o.output, "folder to write (TUM layout, plus groundtruth_mesh.ply)");
-  app.add_option("--frames", o.frames, "frames of the 30 Hz path (300: one full turn and 10 degrees)")
+  app.add_option("--scene", o.scene, "room (8 x 6 m, a full turn) or corridor (a 38 m walk 1.17 times round a 32 m ring corridor)")
       ->capture_default_str()
+      ->check(CLI::IsMember({"room", "corridor"}));
+  app.add_option("--frames", o.frames, "frames of the 30 Hz walk (default: the room 300, one full turn and 10 degrees; "
+                                       "the corridor 1200, 38 m)")
       ->check(CLI::Range(1, 100000));
   app.add_option("--seed", o.seed, "seed of the sensor noise")->capture_default_str();
   app.add_option("--size", o.size, "image size WIDTHxHEIGHT (the Kinect's view scaled)")->capture_default_str();
+  app.add_option("--depth-model", o.depth_model,
+                 "tum: noise sigma(z), 1/5000 m steps (the room's default); kinect-v1: the same noise, rounded to "
+                 "disparity steps of 2.85e-3 z^2 m, with a fixed per-pixel bias of a few mm/m (the corridor's default)")
+      ->check(CLI::IsMember({"tum", "kinect-v1"}));
+  app.add_option("--gap", o.gaps, "FROM:COUNT: leave walk frames FROM..FROM+COUNT-1 out (the camera jumps); repeatable")
+      ->expected(1)
+      ->take_all();
+  app.add_option("--blank", o.blanks,
+                 "FROM:COUNT: write those walk frames with zero depth and black colour (a covered lens); repeatable")
+      ->expected(1)
+      ->take_all();
+  app.add_option("--close-wall", o.close_wall,
+                 "FROM:COUNT (corridor): in those frames turn to the outer wall and step to 0.7 m from it, so that "
+                 "the middle of the run sees one plain wall only (e.g. 510:150 on the north leg's plain stretch)");
   app.add_flag("-f,--force", o.force, "replace an existing output folder, with everything in it");
   app.add_flag("--no-noise", o.no_noise, "a perfect sensor: exact depth everywhere, exact colour");
   app.add_option("--evaluate", o.evaluate, "score this reconstructed mesh (PLY) instead of writing the scan")
       ->check(vf::app::existingFile());
   app.add_option("--trajectory", o.trajectory,
-                 "with --evaluate: the reconstruction's trajectory (TUM), to bring the mesh into the room's frame")
+                 "with --evaluate: the reconstruction's trajectory (TUM), to bring the mesh into the scene's frame")
       ->check(vf::app::existingFile());
   app.add_option("--align", o.align, "with --trajectory: ate (the ATE's rigid alignment), first or none")
       ->capture_default_str()

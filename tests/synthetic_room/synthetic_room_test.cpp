@@ -3,8 +3,6 @@
 // in every frame, and a completion metric that gives 100 % for the ground truth itself.
 #include <gtest/gtest.h>
 
-#include <Eigen/Eigenvalues>
-
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -14,6 +12,7 @@
 #include "room_evaluation.h"
 #include "room_mesh.h"
 #include "room_source.h"
+#include "view_conditioning.h"
 
 namespace vf::synth {
 namespace {
@@ -153,37 +152,6 @@ TEST(SyntheticRoom, DepthNoiseFollowsTheKinectSigmaAndReadingsGoMissingWhereTheS
   EXPECT_LT(dropout, 0.007);
 }
 
-// Smallest over largest eigenvalue of the point-to-plane ICP normal matrix of a view (points
-// about their centroid, lever arms in units of their RMS spread): 0 when a motion leaves every
-// point on its plane, so the view does not constrain all six degrees of freedom.
-double icpConstraint(const Room& room, const CleanView& view, const Intrinsics& k, const Pose& T) {
-  std::vector<Eigen::Vector3d> points, normals;
-  for (int y = 0; y < k.height; ++y)
-    for (int x = 0; x < k.width; ++x) {
-      const float z = view.depth(x, y);
-      if (z < 0.4f || z > 4.f) continue;
-      const Vec3 p = worldPoint(k, T, x, y, z);
-      const int prim = view.primitive[size_t(y * k.width + x)];
-      points.push_back(p.cast<double>());
-      normals.push_back(surfaceNormal(room.primitives[size_t(prim)], p).cast<double>());
-    }
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  for (const auto& p : points) centroid += p;
-  centroid /= double(points.size());
-  double spread = 0;
-  for (const auto& p : points) spread += (p - centroid).squaredNorm();
-  spread = std::sqrt(spread / double(points.size()));
-  Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
-  for (size_t i = 0; i < points.size(); ++i) {
-    const Eigen::Vector3d l = (points[i] - centroid) / spread, &n = normals[i];
-    Eigen::Matrix<double, 6, 1> J;  // (l x n, n), the cross product spelled out: GCC 12 warns on Eigen's AVX one
-    J << l.y() * n.z() - l.z() * n.y(), l.z() * n.x() - l.x() * n.z(), l.x() * n.y() - l.y() * n.x(), n;
-    H += J * J.transpose();
-  }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(H);
-  return eig.eigenvalues()(0) / eig.eigenvalues()(5);
-}
-
 TEST(SyntheticRoom, PathTurnsFullyAtWalkingSpeedWithEnoughToTrackInEveryFrame) {
   const PathStats s = pathStats(cameraPath(kDefaultFrames));
   EXPECT_GE(s.turn_deg, 360.0);
@@ -203,7 +171,9 @@ TEST(SyntheticRoom, PathTurnsFullyAtWalkingSpeedWithEnoughToTrackInEveryFrame) {
     for (int y = 0; y < k.height; ++y)
       for (int x = 0; x < k.width; ++x) in_range += view.depth(x, y) >= 0.4f && view.depth(x, y) <= 4.f;
     worst_share = std::min(worst_share, double(in_range) / (k.width * k.height));
-    worst_constraint = std::min(worst_constraint, icpConstraint(source.room(), view, k, source.groundTruth()[size_t(index)].T_world_cam));
+    // Smallest over largest eigenvalue of the point-to-plane ICP normal matrix (view_conditioning.h).
+    worst_constraint =
+        std::min(worst_constraint, icpConditioning(source.room(), view, k, source.groundTruth()[size_t(index)].T_world_cam)(0));
   }
   EXPECT_GT(worst_share, 0.85) << "pixels within the fusion's 0.4-4 m in the worst frame";
   // A view of the ceiling or the floor alone gives 0; the worst frame of the path gives 0.005.
