@@ -260,10 +260,12 @@ TEST(ToolInputs, SceneWithADuplicateClassIdIsRefused) {
   expectRefused(runVdbfuse({"info", path}), {"class id 1 appears twice"});
   // A class table file with a duplicate id was refused already; it still is, by the same rule.
   VF_REQUIRE_DATA(dataset, "tum_fr1_xyz_head100");
-  test::writeText(dir + "/classes.json", R"([{"id": 1, "name": "person"}, {"id": 1, "name": "background"}])");
-  expectRefused(runVdbfuse({"reconstruct", dataset, "-o", dir + "/r.vdb", "--labels", dir, "--classes",
-                            dir + "/classes.json", "--max-frames", "1"}),
-                {dir + "/classes.json: class id 1 appears twice"});
+  // (The labels folder is read, so the scene goes beside it, not into it.)
+  fs::create_directories(dir + "/labels");
+  test::writeText(dir + "/labels/classes.json", R"([{"id": 1, "name": "person"}, {"id": 1, "name": "background"}])");
+  expectRefused(runVdbfuse({"reconstruct", dataset, "-o", dir + "/r.vdb", "--labels", dir + "/labels", "--classes",
+                            dir + "/labels/classes.json", "--max-frames", "1"}),
+                {dir + "/labels/classes.json: class id 1 appears twice"});
   EXPECT_FALSE(fs::exists(dir + "/r.vdb"));
 }
 
