@@ -143,6 +143,14 @@ void Reconstruction::restoreSession(const std::vector<uint8_t>& bytes, const std
   global_ = in.read<slam::GlobalReport>("optimisation report");
   tracker_->read(in);
   if (!in.atEnd()) in.fail("trailing bytes");
+  // The last well-tracked frame is not in the checkpoint; it is read again from the dataset.
+  const int last_good = tracker_->lastGoodFrameIndex();
+  if (pass_ == 1 && last_good >= 0) {
+    if (last_good >= frame_count_) in.fail("last good frame index " + std::to_string(last_good) + " beyond the dataset");
+    RgbdFrame frame = source_.load(last_good);
+    frame.index = last_good;
+    tracker_->keepLastGoodFrame(std::move(frame));
+  }
 }
 
 void Reconstruction::loseFrame(int index, const std::string& name, LostReason reason, const std::string& why) {
@@ -235,6 +243,7 @@ Reconstruction::Outcome Reconstruction::runFirstPass(const Callbacks& callbacks,
       pending_.clear();
     }
     if (callbacks.on_frame) callbacks.on_frame(frame, result);
+    tracker_->keepLastGoodFrame(std::move(frame));  // kept only when its pose is the last good one
     if (const auto outcome = afterFrame(callbacks, i, result)) return *outcome;
   }
   return Outcome::Finished;
@@ -283,6 +292,7 @@ Reconstruction::Outcome Reconstruction::runSecondPass(const Callbacks& callbacks
       result.tracked = false;
     }
     if (callbacks.on_frame) callbacks.on_frame(frame, result);
+    tracker_->keepLastGoodFrame(std::move(frame));  // kept only when its pose is the last good one
     if (const auto outcome = afterFrame(callbacks, i, result)) return *outcome;
   }
   return Outcome::Finished;

@@ -127,8 +127,7 @@ Tracker::Step Tracker::start(const RgbdFrame& frame) {
   pipeline_.commit(T, true, step.result);
   step.result.icp_inlier_fraction = 1.f;
   state_ = State::Tracking;
-  last_good_ = T;
-  last_good_time_ = frame.timestamp;
+  markLastGood(T, frame);
   harvest(frame, step.result);
   return step;
 }
@@ -154,8 +153,7 @@ Tracker::Step Tracker::trackOn(const RgbdFrame& frame) {
   } else {
     pipeline_.commit(r.T_world_cam, true, r);
   }
-  last_good_ = r.T_world_cam;
-  last_good_time_ = frame.timestamp;
+  markLastGood(r.T_world_cam, frame);
   if (state_ == State::Tracking) harvest(frame, r);
   step.result = std::move(r);
   return step;
@@ -179,12 +177,23 @@ Tracker::Step Tracker::relocalise(const RgbdFrame& frame) {
   std::vector<int> ids = keyframes_.nearest(encoder_.encode(frame, m.min_depth_m, m.max_depth_m), params_.relocalise_by_code);
   for (int i = std::max(0, keyframes_.size() - params_.relocalise_recent); i < keyframes_.size(); ++i)
     if (std::find(ids.begin(), ids.end(), i) == ids.end()) ids.push_back(i);
-  FrameFeatures features;
-  if (!ids.empty()) features = extractFeatures(frame, pipeline_.intrinsics(), m.min_depth_m, m.max_depth_m);
+  const FrameFeatures features = extractFeatures(frame, pipeline_.intrinsics(), m.min_depth_m, m.max_depth_m);
+  // Where the frame's features put it relative to a view with a known pose: by 3D-3D alignment,
+  // and by perspective-n-point from the view's points (no depth needed at this frame's keypoints).
+  auto addFeatureCandidates = [&](const FrameFeatures& view, const Pose& T_world_view) {
+    if (features.empty() || view.empty()) return;
+    if (const auto relative = estimateRelativePose(features, view)) addCandidate(T_world_view * relative->T_target_source);
+    if (const auto relative = estimateRelativePoseFromPixels(features, view, pipeline_.intrinsics()))
+      addCandidate(T_world_view * relative->T_target_source);
+  };
+  if (last_good_frame_) {
+    if (!last_good_features_)
+      last_good_features_ = extractFeatures(*last_good_frame_, pipeline_.intrinsics(), m.min_depth_m, m.max_depth_m);
+    addFeatureCandidates(*last_good_features_, last_good_);
+  }
   for (int id : ids) {
     const Keyframe& k = keyframes_[id];
-    if (!features.empty() && !k.features.empty())
-      if (const auto relative = estimateRelativePose(features, k.features)) addCandidate(k.T_world_cam * relative->T_target_source);
+    addFeatureCandidates(k.features, k.T_world_cam);
     addCandidate(k.T_world_cam);
   }
   // Candidates the camera cannot have reached since it was last tracked are not tried.
@@ -226,8 +235,7 @@ Tracker::Step Tracker::relocalise(const RgbdFrame& frame) {
   step.pending = !holds;
   step.confirm_pending = holds;
   if (holds) state_ = State::Tracking;
-  last_good_ = best->T_world_cam;
-  last_good_time_ = frame.timestamp;
+  markLastGood(best->T_world_cam, frame);
   step.result = std::move(*best);
   return step;
 }
@@ -253,6 +261,21 @@ void Tracker::harvest(const RgbdFrame& frame, const FrameResult& result) {
   keyframes_.add(std::move(k));
 }
 
+void Tracker::markLastGood(const Pose& T, const RgbdFrame& frame) {
+  last_good_ = T;
+  last_good_time_ = frame.timestamp;
+  if (last_good_index_ != frame.index) {
+    last_good_frame_.reset();
+    last_good_features_.reset();
+  }
+  last_good_index_ = frame.index;
+}
+
+void Tracker::keepLastGoodFrame(RgbdFrame&& frame) {
+  if (frame.index != last_good_index_ || last_good_frame_) return;
+  last_good_frame_ = std::move(frame);
+}
+
 void Tracker::write(std::vector<uint8_t>& out) const {
   ByteWriter w(out);
   w.pod<uint8_t>(uint8_t(state_));
@@ -260,6 +283,7 @@ void Tracker::write(std::vector<uint8_t>& out) const {
   w.pod<int32_t>(relocalisations_);
   w.pose(last_good_);
   w.pod(last_good_time_);
+  w.pod<int32_t>(last_good_index_);
   w.pod<uint8_t>(last_given_ ? 1 : 0);
   w.pose(last_given_.value_or(Pose::Identity()));
   keyframes_.write(out);
@@ -274,6 +298,10 @@ void Tracker::read(ByteReader& in) {
   if (probation_count_ < 0 || relocalisations_ < 0) in.fail("negative tracking counters");
   last_good_ = readPose(in, "last good pose");
   last_good_time_ = in.read<double>("last good time");
+  last_good_index_ = in.read<int32_t>("last good frame index");
+  if (last_good_index_ < -1) in.fail("last good frame index " + std::to_string(last_good_index_));
+  last_good_frame_.reset();
+  last_good_features_.reset();
   const bool has_given = in.read<uint8_t>("recorded pose flag") != 0;
   const Pose given = readPose(in, "recorded pose");
   last_given_.reset();

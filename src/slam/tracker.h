@@ -10,10 +10,12 @@
 //   Probation  a relocalised pose must track for a few frames before fusion resumes; their poses
 //              are pending until then, and dropped if the pose does not hold.
 // Keyframes are harvested while tracking is good and the view is new (slam/keyframes.h).
+#include <optional>
 #include <vector>
 
 #include "core/frame.h"
 #include "fusion/pipeline.h"
+#include "slam/frame_features.h"
 #include "slam/keyframes.h"
 
 namespace vf::slam {
@@ -55,6 +57,11 @@ class Tracker {
   const KeyframeStore& keyframes() const { return keyframes_; }
   KeyframeStore& keyframes() { return keyframes_; }
   int relocalisations() const { return relocalisations_; }
+  // The frame whose pose is the last good one: after a gap the camera is most often still near
+  // where it was last seen, so its features are the first a lost frame is matched against. The
+  // session hands it over after each step (no copy); -1 / false when none is kept.
+  int lastGoodFrameIndex() const { return last_good_index_; }
+  void keepLastGoodFrame(RgbdFrame&& frame);
 
   // For checkpoints (the pipeline saves its own state).
   void write(std::vector<uint8_t>& out) const;
@@ -70,6 +77,7 @@ class Tracker {
   bool hasDepth(const RgbdFrame& frame, std::string* why) const;
   void harvest(const RgbdFrame& frame, const FrameResult& result);
   Pose predictedPose(const RgbdFrame& frame) const;
+  void markLastGood(const Pose& T, const RgbdFrame& frame);
 
   Pipeline& pipeline_;
   PoseSource poses_;
@@ -81,6 +89,9 @@ class Tracker {
   int relocalisations_ = 0;
   Pose last_good_ = Pose::Identity();          // the last pose tracked (or relocalised) well
   double last_good_time_ = 0;                  // its frame's timestamp
+  int last_good_index_ = -1;                   // its frame's index
+  std::optional<RgbdFrame> last_good_frame_;   // that frame, once handed over
+  std::optional<FrameFeatures> last_good_features_;  // its features, computed when first needed
   std::optional<Pose> last_given_;             // GivenIcp: the recorded pose of the previous frame
 };
 
