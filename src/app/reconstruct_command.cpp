@@ -132,7 +132,7 @@ void runReconstruct(const ReconstructOptions& o) {
   auto start = std::chrono::steady_clock::now();
   callbacks.on_second_pass = [&](const slam::GlobalReport& report) {
     progress->finish();
-    first_pass_timer = run.pipeline().timer();
+    first_pass_timer = run.firstPassTimer();
     first_pass_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     first_pass_frames = run.frameCount();
     if (!o.quiet)

@@ -262,6 +262,7 @@ bool Reconstruction::optimise() {
   pass_ = 2;
   progress_.frames_done = 0;
   frames_fused_ = 0;
+  first_pass_timer_ = pipeline_->timer();
   pipeline_.reset();
   pipeline_ = std::make_unique<Pipeline>(options_.params, source_.depthIntrinsics(), options_.device,
                                          options_.with_classes);

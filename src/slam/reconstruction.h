@@ -74,6 +74,8 @@ class Reconstruction {
   // The first pass's poses (what tracking alone said), and what the optimisation did.
   const Trajectory& odometry() const { return odometry_; }
   const slam::GlobalReport& globalReport() const { return global_; }
+  // The first pass's stage times, kept when the second pass replaces its pipeline.
+  const StageTimer& firstPassTimer() const { return first_pass_timer_; }
   // The poses of the frames that have one (a frame relocalised and still on probation has none
   // yet), and the frames that have none, with why.
   const Trajectory& trajectory() const { return progress_.trajectory; }
@@ -109,6 +111,7 @@ class Reconstruction {
   std::vector<int> posed_frames_, anchors_;
   int pass_ = 1;
   Trajectory odometry_;               // the first pass's trajectory, once the second pass starts
+  StageTimer first_pass_timer_;
   slam::GlobalReport global_;
 };
 
