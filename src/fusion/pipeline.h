@@ -145,7 +145,8 @@ class Pipeline {
   struct Buffers;
   struct IcpSolution;
   // Tracking (fusion/tracking.cpp): the ICP solve, then the decision whether to trust it.
-  IcpSolution solveIcp(const Pose& initial_guess);
+  // T_hold: the pose the directions the view leaves unconstrained are held at.
+  IcpSolution solveIcp(const Pose& initial_guess, const Pose& T_hold);
   // How the measured points move under a camera-frame pose increment (fusion/tracking.cpp).
   Eigen::Matrix<double, 6, 6> measuredPointMetric() const;
   FrameResult judgeTracking(const IcpSolution& solution, const Pose& guess, const TrackingCheck& check) const;

@@ -81,19 +81,22 @@ Eigen::Matrix<double, 6, 6> pointMotionMetric(const Eigen::Vector3d& mean, const
 // Solves for the world-frame increment xi; false when singular. `geometric_weight` is the sum of
 // the point-to-plane weights (the system's translation trace): per unit of point motion a
 // direction gains at most that much from the data, when every normal points along it.
-// Directions the data constrain less than `degenerate_share` of that (generalised eigenvectors
-// of the system against the point-motion metric G) are held at the predicted pose: a view of one
-// wall says nothing about sliding along it or turning about its normal, and a solve would move
-// the camera there on noise alone. Well-constrained directions are left to the data, so that the
-// prediction (no motion) cannot bias them. degenerate: how many directions were held.
-bool solveIncrement(const RowSums& sums, double geometric_weight, const Eigen::Matrix<double, 6, 6>& G,
-                    const Pose& T, const Pose& T_predicted, double degenerate_share,
-                    Eigen::Matrix<double, 6, 1>& xi, int& degenerate) {
+// Directions the geometry constrains less than `degenerate_share` of that (generalised
+// eigenvectors of the point-to-plane system against the point-motion metric G) are held at the
+// motion prior's pose T_hold: a view of one wall says nothing about sliding along it or turning
+// about its normal, and a solve would move the camera there on noise alone. The photometric rows
+// are left out of that test: on a weakly textured wall, image noise makes every direction look
+// measured. Well-constrained directions are left to the data, so that the prior cannot bias them.
+// degenerate: how many directions were held.
+bool solveIncrement(const RowSums& sums, const RowSums& geometric_sums, double geometric_weight,
+                    const Eigen::Matrix<double, 6, 6>& G, const Pose& T, const Pose& T_hold,
+                    double degenerate_share, Eigen::Matrix<double, 6, 1>& xi, int& degenerate) {
   CameraSystem s = cameraSystem(sums, T);
   Eigen::Matrix<double, 6, 1> rhs = -s.g;
   degenerate = 0;
   if (degenerate_share > 0 && geometric_weight > 0) {
-    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eigen(s.A, G);
+    const Eigen::Matrix<double, 6, 6> A_geometric = cameraSystem(geometric_sums, T).A;
+    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eigen(A_geometric, G);
     Eigen::Matrix<double, 6, 6> hold = Eigen::Matrix<double, 6, 6>::Zero();
     for (int i = 0; i < 6; ++i)
       if (eigen.eigenvalues()(i) < degenerate_share * geometric_weight) {
@@ -105,7 +108,7 @@ bool solveIncrement(const RowSums& sums, double geometric_weight, const Eigen::M
       // As strong as the data would be if every point constrained the held directions fully.
       hold *= geometric_weight;
       s.A += hold;
-      rhs -= hold * deviation(T_predicted, T);
+      rhs -= hold * deviation(T_hold, T);
     }
   }
   const Eigen::Matrix<double, 6, 1> eta = s.A.ldlt().solve(rhs);
@@ -161,7 +164,7 @@ Eigen::Matrix<double, 6, 6> Pipeline::measuredPointMetric() const {
   return pointMotionMetric(sum / weight, second / weight);
 }
 
-Pipeline::IcpSolution Pipeline::solveIcp(const Pose& initial_guess) {
+Pipeline::IcpSolution Pipeline::solveIcp(const Pose& initial_guess, const Pose& T_hold) {
   Buffers& b = *buffers_;
   const IcpParams& p = params_.icp;
   IcpSolution solution;
@@ -221,6 +224,7 @@ Pipeline::IcpSolution Pipeline::solveIcp(const Pose& initial_guess) {
         have_finest_sums = true;
       }
       if (sums[normal_row::kInliers] < 6) break;
+      const RowSums geometric_sums = sums;
       if (use_photometric) {
         photo.T_world_cam = icp.T_world_cam;
         photo.T_cam_world = toRigid3f(T.inverse());
@@ -229,7 +233,8 @@ Pipeline::IcpSolution Pipeline::solveIcp(const Pose& initial_guess) {
       }
       Eigen::Matrix<double, 6, 1> xi;
       int degenerate = 0;
-      if (!solveIncrement(sums, geometric_weight, G, T, initial_guess, p.degenerate_share, xi, degenerate)) break;
+      if (!solveIncrement(sums, geometric_sums, geometric_weight, G, T, T_hold, p.degenerate_share, xi, degenerate))
+        break;
       if (l == 0) solution.degenerate_directions = degenerate;
       T = twistToPose(xi) * T;
       if (xi.head<3>().norm() < converged && xi.tail<3>().norm() < converged) break;
@@ -253,7 +258,12 @@ FrameResult Pipeline::track(const Pose& guess, const TrackingCheck& check) {
     return result;
   }
   ScopedStage stage(timer_, "track");
-  return judgeTracking(solveIcp(guess), guess, check);
+  // The motion prior for the directions the view leaves unconstrained: the last frame's motion
+  // continued, when the last frame was tracked and the guess starts from it; else the guess.
+  const bool continues = !check.relocalising && state_.last_frame_committed &&
+                         guess.matrix() == check.T_world_previous.matrix();
+  const Pose T_hold = continues ? check.T_world_previous * state_.last_motion : guess;
+  return judgeTracking(solveIcp(guess, T_hold), guess, check);
 }
 
 const char* lostReasonName(LostReason reason) {

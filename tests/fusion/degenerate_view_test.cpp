@@ -1,7 +1,8 @@
 // A view of one flat, textureless wall constrains three of the six pose directions: moving
 // towards it and tilting about the two axes in its plane. Sliding along it and turning about its
-// normal change nothing the camera sees, so the solve must leave them at the predicted pose (no
-// motion) instead of moving the camera there on the depth noise alone (fusion/tracking.cpp).
+// normal change nothing the camera sees, so the solve must leave them where the motion prior puts
+// them (no motion, or the last frame's motion continued) instead of moving the camera there on
+// the depth noise alone (fusion/tracking.cpp).
 #include <gtest/gtest.h>
 
 #include <random>
@@ -82,6 +83,28 @@ TEST(DegenerateView, WithoutHoldingThemTheUnseenDirectionsWanderWithTheNoise) {
   EXPECT_GT(free.centre_offset.norm(), 10 * std::max(held.centre_offset.norm(), 1e-4))
       << "held " << held.centre_offset.transpose() << ", free " << free.centre_offset.transpose();
   EXPECT_GT(std::abs(free.rotation_deg.z()), 0.1) << free.rotation_deg.transpose();
+}
+
+TEST(DegenerateView, ACameraSlidingAlongTheWallKeepsItsMotionThere) {
+  // Two frames with recorded poses 10 mm apart along the wall, then a third 10 mm further that
+  // ICP must place: the view cannot see the slide, so the prior decides, and the prior is the
+  // motion the camera had (a walk past a blank wall does not stop at its first frame).
+  const Intrinsics k = testCamera(320, 240);
+  PipelineParams params;
+  params.volume.voxel_size_m = 0.004f;
+  Pipeline pipeline(params, k, Device::Cpu);
+  for (int i = 0; i < 2; ++i) {
+    RgbdFrame frame = wallFrame(k, poseFrom(0, 0, 0, 0.010 * i, 0, 0), unsigned(i + 1));
+    frame.T_world_cam_given = poseFrom(0, 0, 0, 0.010 * i, 0, 0);
+    pipeline.processFrame(frame, PoseSource::Given);
+  }
+  const Pose truth = poseFrom(0, 0, 0, 0.020, 0, 0);
+  const FrameResult r = pipeline.processFrame(wallFrame(k, truth, 3), PoseSource::Icp);
+  ASSERT_TRUE(r.tracked) << r.lost_reason;
+  EXPECT_EQ(r.degenerate_directions, 3);
+  // Held at the last pose instead, it would stay at x = 10 mm.
+  EXPECT_NEAR(r.T_world_cam.translation().x(), 0.020, 5e-4) << r.T_world_cam.translation().transpose();
+  EXPECT_NEAR(r.T_world_cam.translation().y(), 0.0, 5e-4) << r.T_world_cam.translation().transpose();
 }
 
 }  // namespace
