@@ -169,6 +169,30 @@ TEST_F(ResumeTest, ARunStoppedInItsSecondPassResumesToTheSameScene) {
   EXPECT_EQ(test::firstDifferentBrick(resumed.pipeline().hostVolume(), through.pipeline().hostVolume()), -1);
 }
 
+// Issue 36: where the loops found agree with the tracked poses (fr1/xyz's first 100 frames: the
+// camera comes back over the desk) the loop closure changes nothing: the same poses, bit for
+// bit, and the same scene, voxel for voxel, as a run with it off.
+TEST(LoopClosureOff, LoopsThatAgreeLeaveTheSceneVoxelForVoxelAsWithoutThem) {
+  VF_REQUIRE_DATA(folder, "tum_fr1_xyz_head100");
+  const TumDataset data(folder);
+  ReconstructionOptions options;
+  options.device = Device::Cpu;
+  options.settings = {{"dataset", "fr1_xyz_head100"}};
+  options.global.loop_closure = false;
+  Reconstruction off(data, options);
+  ASSERT_EQ(off.run({}), Reconstruction::Outcome::Finished);
+  options.global.loop_closure = true;
+  Reconstruction on(data, options);
+  ASSERT_EQ(on.run({}), Reconstruction::Outcome::Finished);
+  ASSERT_GT(on.globalReport().loops_found, 0) << "no loop was found: the test would prove nothing";
+  EXPECT_FALSE(on.globalReport().moved());
+  EXPECT_EQ(on.pass(), 1);
+  ASSERT_EQ(on.trajectory().size(), off.trajectory().size());
+  for (size_t i = 0; i < on.trajectory().size(); ++i)
+    EXPECT_TRUE(test::sameBits(on.trajectory()[i].T_world_cam, off.trajectory()[i].T_world_cam)) << i;
+  EXPECT_EQ(test::firstDifferentBrick(on.pipeline().hostVolume(), off.pipeline().hostVolume()), -1);
+}
+
 TEST_F(ResumeTest, MismatchingOrDamagedCheckpointIsRefusedWithAReason) {
   const std::string path = dir_ + "/run.checkpoint";
   {
