@@ -112,8 +112,9 @@ def checkpoint(frames, with_classes, windowed, bricks, lost=()):
         out += struct.pack("<ii", 32, 24) + b"".join(struct.pack("<f", 0.0 if x < 2 else 0.5) for y in range(24)
                                                      for x in range(32))
     out += struct.pack("<B", 0) + pose()
-    out += struct.pack("<iI", frames, frames)
-    out += b"".join(struct.pack("<d", 0.033 * i) + pose(0.01 * i) for i in range(frames))
+    posed = frames - len(lost)  # a lost frame has no pose in the trajectory
+    out += struct.pack("<iI", frames, posed)
+    out += b"".join(struct.pack("<d", 0.033 * i) + pose(0.01 * i) for i in range(posed))
     # lost frames: index, reason (2: too few inliers), name, report; then the session's state
     # (empty: a run that has not started one), whether the last frame was fused, the last motion
     out += struct.pack("<I", len(lost)) + b"".join(struct.pack("<iB", 1, 2) + string("1.png") + string(s)
