@@ -110,6 +110,10 @@ void Reconstruction::restoreSession(const std::vector<uint8_t>& bytes, const std
   ByteReader in(bytes.data(), bytes.size(), "checkpoint " + path + ": tracking state");
   pass_ = in.read<int32_t>("pass");
   if (pass_ != 1 && pass_ != 2) in.fail("pass " + std::to_string(pass_) + " is neither 1 nor 2");
+  for (const LostFrame& l : progress_.lost)
+    if (l.index >= (pass_ == 1 ? progress_.frames_done : frame_count_))
+      in.fail("a lost frame's index " + std::to_string(l.index) + " is beyond the frames " +
+              (pass_ == 1 ? "done" : "of the dataset"));
   last_depth_hash_ = in.read<uint64_t>("depth hash");
   frames_fused_ = in.read<int32_t>("fused frame count");
   const uint32_t pending = in.read<uint32_t>("pending frame count");

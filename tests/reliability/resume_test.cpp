@@ -169,6 +169,55 @@ TEST_F(ResumeTest, ARunStoppedInItsSecondPassResumesToTheSameScene) {
   EXPECT_EQ(test::firstDifferentBrick(resumed.pipeline().hostVolume(), through.pipeline().hostVolume()), -1);
 }
 
+// Teddy with frames 20-22 blank (a covered lens): they are lost in the first pass, and their
+// reports stay while the second pass counts its frames again from 0.
+class TeddyWithBlankFrames : public FrameSource {
+ public:
+  explicit TeddyWithBlankFrames(const FrameSource& data) : data_(data) {}
+  int size() const override { return data_.size(); }
+  RgbdFrame load(int index) const override {
+    RgbdFrame frame = data_.load(index);
+    if (index >= 20 && index <= 22) frame.depth = DepthImage(frame.depth.width(), frame.depth.height(), 0.f);
+    return frame;
+  }
+  Intrinsics depthIntrinsics() const override { return data_.depthIntrinsics(); }
+  std::string description() const override { return "teddy, frames 20-22 blank"; }
+
+ private:
+  const FrameSource& data_;
+};
+
+TEST_F(ResumeTest, ASecondPassCheckpointKeepsTheFirstPassLostFrames) {
+  const TeddyWithBlankFrames data(*data_);
+  ReconstructionOptions options;
+  options.params = test::teddyParams();
+  options.device = Device::Cpu;
+  options.max_frames = 40;
+  options.settings = {{"dataset", "teddy-blank"}};
+  options.global.loops.min_separation_frames = 15;
+  options.global.loops_agree_chi = 0;
+  options.global.min_correction_m = 0;
+  Reconstruction through(data, options);
+  ASSERT_EQ(through.run({}), Reconstruction::Outcome::Finished);
+  ASSERT_EQ(through.pass(), 2) << "no loop moved the poses: the second pass was not reached";
+  ASSERT_EQ(through.lostFrames().size(), 3u);
+  const std::string path = dir_ + "/second_pass_lost.checkpoint";
+  {
+    Reconstruction stopped(data, options);
+    Reconstruction::Callbacks callbacks;
+    callbacks.should_stop = [&] { return stopped.pass() == 2 && stopped.framesDone() == 2; };
+    ASSERT_EQ(stopped.run(callbacks), Reconstruction::Outcome::Stopped);
+    stopped.saveCheckpoint(path);
+  }
+  Reconstruction resumed(data, options);
+  resumed.resume(path);  // 3 lost-frame reports against 2 frames done: not a damaged file
+  EXPECT_EQ(resumed.pass(), 2);
+  ASSERT_EQ(resumed.run({}), Reconstruction::Outcome::Finished);
+  EXPECT_EQ(resumed.lostFrames().size(), 3u);
+  ASSERT_EQ(resumed.trajectory().size(), through.trajectory().size());
+  EXPECT_EQ(test::firstDifferentBrick(resumed.pipeline().hostVolume(), through.pipeline().hostVolume()), -1);
+}
+
 // Issue 36: where the loops found agree with the tracked poses (fr1/xyz's first 100 frames: the
 // camera comes back over the desk) the loop closure changes nothing: the same poses, bit for
 // bit, and the same scene, voxel for voxel, as a run with it off.
