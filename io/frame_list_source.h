@@ -29,6 +29,7 @@ struct FrameList {
   std::string depth_scale_source;
   uint16_t depth_invalid_value = 0;     // a second "no reading" value besides 0 (7-Scenes: 65535)
   bool color_registered = true;         // colour pixel (u, v) sees what depth pixel (u, v) sees
+  std::optional<float> depth_noise_quadratic;  // FrameSource::depthNoiseQuadratic()
   bool resize_color = false;            // colour at another size (same aspect ratio within 1 %) is
                                         // area-resized to the depth size
 };
@@ -48,6 +49,7 @@ class FrameListSource : public FrameSource {
   // The dataset's poses, with the frames' timestamps (frames without one are left out).
   Trajectory groundTruth() const override;
   bool colorRegisteredToDepth() const override { return list_.color_registered; }
+  std::optional<float> depthNoiseQuadratic() const override { return list_.depth_noise_quadratic; }
 
   const FrameList& list() const { return list_; }
 

@@ -47,6 +47,7 @@ class LabeledFrameSource : public FrameSource {
   std::string description() const override;
   Trajectory groundTruth() const override { return inner_->groundTruth(); }
   bool colorRegisteredToDepth() const override { return inner_->colorRegisteredToDepth(); }
+  std::optional<float> depthNoiseQuadratic() const override { return inner_->depthNoiseQuadratic(); }
   std::optional<Vec3f> worldUp() const override { return inner_->worldUp(); }
 
   const ClassTable& classes() const { return classes_; }

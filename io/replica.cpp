@@ -54,6 +54,7 @@ FrameList readReplica(const std::string& folder, const LayoutOptions& options) {
   FrameList list;
   list.folder = folder;
   list.layout = "Replica";
+  list.depth_noise_quadratic = 0.f;  // rendered depth: no reading is noisier for being far
   const fs::path here = dir / "cam_params.json";
   const fs::path up = fs::absolute(dir).lexically_normal().parent_path() / "cam_params.json";
   if (fs::exists(here)) {

@@ -70,6 +70,8 @@ void runReconstruct(const ReconstructOptions& o) {
     source = std::move(wrapped);
   }
   ReconstructionOptions fusion = fusionOptions(o, labeled, photometric);
+  // ICP weighs depth readings by the noise of the sensor that took them (core/frame.h).
+  if (const std::optional<float> noise = source->depthNoiseQuadratic()) fusion.params.icp.depth_noise_quadratic = *noise;
   fusion.settings = runSettings(o, *source, fusion.device);
   checkGpuFits(o, fusion, source->depthIntrinsics());
   Reconstruction run(*source, fusion);

@@ -37,6 +37,11 @@ class FrameSource {
   // another camera, resampled to the depth size), so that colour terms that assume it
   // (photometric tracking) should be left out.
   virtual bool colorRegisteredToDepth() const { return true; }
+  // How the sensor's depth noise grows with distance, as IcpParams::depth_noise_quadratic (sigma(z)
+  // = 1.2 mm + q (z - 0.4 m)^2): ICP weighs readings by it. Empty: a structured-light camera of
+  // the Kinect v1 class (TUM, 7-Scenes, ScanNet, Redwood), IcpParams' default; 0: noise that does
+  // not grow (rendered depth).
+  virtual std::optional<float> depthNoiseQuadratic() const { return std::nullopt; }
   // Gravity's "up" in the frame of the given poses (T_world_cam_given), when the device knows it
   // (ARKit's world is gravity-aligned); empty when not known.
   virtual std::optional<Vec3f> worldUp() const { return std::nullopt; }
