@@ -190,6 +190,13 @@ double record3dTimestamp(const Record3dMetadata& m, int index) {
   return m.fps > 0 ? double(index) / m.fps : 0.0;
 }
 
+Trajectory record3dDevicePoses(const Record3dMetadata& meta, int frames) {
+  Trajectory poses;
+  if (frames <= 0 || meta.T_world_cam.size() < size_t(frames)) return poses;
+  for (int i = 0; i < frames; ++i) poses.push_back({record3dTimestamp(meta, i), meta.T_world_cam[size_t(i)]});
+  return poses;
+}
+
 void requireRecord3dColorSize(int width, int height, const Record3dMetadata& meta, const std::string& what) {
   if (width == meta.rgb_width && height == meta.rgb_height) return;
   throw Error(what + ": the colour image is " + std::to_string(width) + "x" + std::to_string(height) +

@@ -51,6 +51,9 @@ Intrinsics scaleRecord3dIntrinsics(const Record3dMetadata& meta, int width, int 
 
 // Timestamp of frame `index`: frameTimestamps[index] when present, else index / fps.
 double record3dTimestamp(const Record3dMetadata& meta, int index);
+// The device's (ARKit's) pose of each of the first `frames` frames at its timestamp; empty when the
+// metadata has no pose for every frame.
+Trajectory record3dDevicePoses(const Record3dMetadata& meta, int frames);
 
 // The size colour is decoded and fused at: the capture's own RGB size (metadata w x h, 720x960
 // on an iPhone: fusion samples it per voxel, so text and book spines stay sharp), or the depth
@@ -92,6 +95,9 @@ class Record3dCapture : public FrameSource {
   Intrinsics depthIntrinsics() const override { return depth_intrinsics_; }
   std::string description() const override;
   std::optional<Vec3f> worldUp() const override { return meta_.world_up; }
+  // The phone's ARKit poses: not motion capture, but what a run with --poses icp is compared to
+  // (`evaluate --groundtruth capture.r3d`).
+  Trajectory groundTruth() const override { return record3dDevicePoses(meta_, frame_count_); }
   // ARKit's LiDAR depth (smoothed by ARKit, 256x192): its error grows far more slowly with
   // distance than a Kinect's. On the shared dance capture (ICP, dancer masked, against ARKit's
   // poses) 0.0005 gave 1.50 cm ATE; 0 2.09, 0.0002 1.82, 0.001 1.95, the Kinect's 0.0019 2.67.

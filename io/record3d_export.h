@@ -28,6 +28,8 @@ class Record3dExport : public FrameSource {
   Intrinsics depthIntrinsics() const override { return depth_intrinsics_; }
   std::string description() const override;
   std::optional<Vec3f> worldUp() const override { return meta_.world_up; }
+  // The phone's ARKit poses (record3d.h).
+  Trajectory groundTruth() const override { return record3dDevicePoses(meta_, frame_count_); }
   // ARKit's LiDAR depth, as in a .r3d capture (record3d.h).
   std::optional<float> depthNoiseQuadratic() const override { return 0.0005f; }
   const Record3dMetadata& metadata() const { return meta_; }

@@ -65,7 +65,8 @@ int markSeenByTrajectory(const std::vector<Vec3f>& points, const FrameSource& so
 
 Trajectory loadGroundTruth(const std::string& path, const SourceOptions& source) {
   Trajectory gt;
-  if (std::filesystem::is_directory(path)) {
+  // A dataset folder, or a Record3D capture (.r3d): the poses it carries.
+  if (std::filesystem::is_directory(path) || std::filesystem::path(path).extension() == ".r3d") {
     gt = openFrameSource(path, source)->groundTruth();
     if (gt.empty()) throw Error(path + ": the dataset has no poses to compare against");
   } else {
