@@ -35,10 +35,12 @@ struct FusedRun {
   int median_bricks_fused = -1;
 };
 
-FusedRun reconstructAndEvaluate(const std::string& sequence) {
+FusedRun reconstructAndEvaluate(const std::string& sequence, const std::vector<std::string>& options = {}) {
   const std::string dataset = test::dataPath(sequence);
   const std::string dir = test::tempDir("accuracy_" + sequence);
-  const test::CliRun fused = test::runVdbfuse({"reconstruct", dataset, "-o", dir + "/scene.vdb", "-q"}, 0, 1800);
+  std::vector<std::string> args{"reconstruct", dataset, "-o", dir + "/scene.vdb", "-q"};
+  args.insert(args.end(), options.begin(), options.end());
+  const test::CliRun fused = test::runVdbfuse(args, 0, 1800);
   EXPECT_EQ(fused.status, 0) << fused.output;
   const test::CliRun evaluated =
       test::runVdbfuse({"evaluate", "--trajectory", dir + "/scene.txt", "--groundtruth", dataset});
@@ -88,6 +90,18 @@ TEST(Accuracy, SevenScenesKitchenHead500AteAtMostThreeCentimetres) {
   const FusedRun run = reconstructAndEvaluate("7scenes_redkitchen_head500");
   EXPECT_GT(run.ate_cm, 0);
   EXPECT_LE(run.ate_cm, 3.0);
+}
+
+// The iPhone capture: ICP with the dancer left out, against the phone's own (ARKit) poses, which
+// are no motion capture but drift little over 200 frames. 1.50 cm when set (1.60 before the
+// tracking work of 2026-12-05; 2.67 with the Kinect's depth noise model applied to the LiDAR).
+TEST(Accuracy, Record3dDanceHead200WithTheDancerMaskedWithinOnePointSevenCentimetres) {
+  VF_REQUIRE_DATA(dataset, "record3d_dance_head200.r3d");
+  VF_REQUIRE_DATA(labels, "record3d_dance_head200_labels");
+  const FusedRun run = reconstructAndEvaluate("record3d_dance_head200.r3d",
+                                              {"--labels", labels, "--dynamic-classes", "person", "--voxel-size-m", "0.01"});
+  EXPECT_GT(run.ate_cm, 0);
+  EXPECT_LE(run.ate_cm, 1.7);
 }
 
 }  // namespace
