@@ -319,7 +319,7 @@ RunProgress readCheckpoint(const std::string& path, Pipeline& pipeline, const Ru
     LostFrame l;
     l.index = r.read<int32_t>("lost frame index");
     const uint8_t reason = r.read<uint8_t>("lost frame reason");
-    if (reason > uint8_t(LostReason::Repeated)) r.fail("lost frame reason " + std::to_string(reason) + " is unknown");
+    if (reason > uint8_t(LostReason::Collapse)) r.fail("lost frame reason " + std::to_string(reason) + " is unknown");
     l.reason = LostReason(reason);
     l.name = r.readString("lost frame name");
     l.why = r.readString("lost frame report");

@@ -103,6 +103,7 @@ struct IcpKernel {
       J[5][j] = paired ? mnz[j] : 0.f;
       row[normal_row::kInliers][j] = paired ? 1.f : 0.f;
       row[normal_row::kMeasured][j] = measured[j] ? 1.f : 0.f;
+      row[normal_row::kCovered][j] = found[j] & !((mnx[j] == 0.f) & (mny[j] == 0.f) & (mnz[j] == 0.f)) ? 1.f : 0.f;
     }
     packNormalRows<L>(row, J, r, weight);
     // The statistics stay in metres, whatever the noise scaling.

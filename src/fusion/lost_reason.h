@@ -18,6 +18,7 @@ enum class LostReason : uint8_t {
   Probation,       // relocalised, but the pose did not hold for enough frames to be fused
   OutOfReach,      // a given pose lies beyond the volume's coordinate range
   Repeated,        // the same depth as the frame before (a recorder's duplicate): no pose of its own
+  Collapse,        // matched far fewer pixels than the frames before it: a jump ICP did not follow
 };
 const char* lostReasonName(LostReason reason);
 

@@ -13,7 +13,8 @@ constexpr int kGradient = 21;       // 6 entries: J^T W r
 constexpr int kSquaredError = 27;   // W r^2
 constexpr int kInliers = 28;        // geometric correspondences found
 constexpr int kMeasured = 29;       // measured pixels with a normal, matched or not
-constexpr int kSize = 30;
+constexpr int kCovered = 30;        // measured pixels that land on the model's surface, matched or not
+constexpr int kSize = 31;
 }  // namespace normal_row
 
 // Writes the weighted Jacobian products of L residuals into row[kHessian .. kSquaredError][lane]

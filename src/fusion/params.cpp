@@ -52,6 +52,10 @@ void IcpParams::validate() const {
   require(relocalise_min_inlier_fraction >= 0 && relocalise_min_inlier_fraction < 1,
           "IcpParams.relocalise_min_inlier_fraction", relocalise_min_inlier_fraction, "must be in [0, 1)");
   require(relocalise_max_rmse_m > 0, "IcpParams.relocalise_max_rmse_m", relocalise_max_rmse_m, "must be > 0");
+  require(relocalise_min_covered_match > 0 && relocalise_min_covered_match <= 1,
+          "IcpParams.relocalise_min_covered_match", relocalise_min_covered_match, "must be in (0, 1]");
+  require(relocalise_min_coverage > 0 && relocalise_min_coverage <= 1, "IcpParams.relocalise_min_coverage",
+          relocalise_min_coverage, "must be in (0, 1]");
   require(depth_noise_quadratic >= 0 && std::isfinite(depth_noise_quadratic), "IcpParams.depth_noise_quadratic",
           depth_noise_quadratic, "must be >= 0");
   require(depth_noise_power == 1 || depth_noise_power == 2, "IcpParams.depth_noise_power", depth_noise_power,

@@ -172,6 +172,7 @@ struct PhotometricKernel {
       w[j] = ok ? weight * (abs_r <= huber ? 1.f : huber / maxFloat(abs_r, huber)) : 0.f;
       row[normal_row::kInliers][j] = 0.f;  // statistics (inliers, measured pixels) stay geometric
       row[normal_row::kMeasured][j] = 0.f;
+      row[normal_row::kCovered][j] = 0.f;
     }
     packNormalRows<L>(row, J, r, w);
     return true;

@@ -35,6 +35,7 @@ struct FrameResult {
   Pose T_world_cam = Pose::Identity();
   int icp_inliers = 0;
   float icp_inlier_fraction = 0.f;
+  float icp_model_coverage = 0.f;  // share of the measured pixels that land on the model's surface
   float icp_rmse_m = 0.f;
   std::string lost_reason;  // why tracking was rejected
   // Directions of the pose the view left unconstrained (one wall: three), held by the motion

@@ -280,6 +280,7 @@ const char* lostReasonName(LostReason reason) {
     case LostReason::Probation: return "relocalised, but the pose did not hold";
     case LostReason::OutOfReach: return "pose beyond the volume's reach";
     case LostReason::Repeated: return "repeated depth (the frame before, again)";
+    case LostReason::Collapse: return "matched far fewer pixels than the frames before";
   }
   return "?";
 }
@@ -297,6 +298,12 @@ FrameResult Pipeline::judgeTracking(const IcpSolution& solution, const Pose& gue
   // The fraction is relative to the measured pixels that have a normal (what ICP can use).
   const int measured = int(sums[normal_row::kMeasured]);
   result.icp_inlier_fraction = measured > 0 ? float(result.icp_inliers) / float(measured) : 0.f;
+  const double covered = sums[normal_row::kCovered];
+  result.icp_model_coverage = measured > 0 ? float(covered / measured) : 0.f;
+  const float covered_match = covered > 0 ? float(inliers / covered) : 0.f;
+  // A relocalised pose whose view reaches past the model: what the model covers must match.
+  const bool matches_where_covered = check.relocalising && result.icp_model_coverage >= p.relocalise_min_coverage &&
+                                     covered_match >= p.relocalise_min_covered_match;
   const Pose motion = check.T_world_previous.inverse() * T;
   const Pose jump = guess.inverse() * T;
   result.jump_m = float(jump.translation().norm());
@@ -312,10 +319,10 @@ FrameResult Pipeline::judgeTracking(const IcpSolution& solution, const Pose& gue
   } else if (!T.matrix().allFinite()) {
     reject(LostReason::Diverged);
     std::snprintf(why, sizeof(why), "ICP diverged");
-  } else if (result.icp_inlier_fraction < min_fraction) {
+  } else if (result.icp_inlier_fraction < min_fraction && !matches_where_covered) {
     reject(LostReason::FewInliers);
-    std::snprintf(why, sizeof(why), "only %.0f%% of pixels matched the model (min %.0f%%)",
-                  100.f * result.icp_inlier_fraction, 100.f * min_fraction);
+    std::snprintf(why, sizeof(why), "only %.0f%% of pixels matched the model (min %.0f%%; it covers %.0f%%)",
+                  100.f * result.icp_inlier_fraction, 100.f * min_fraction, 100.f * result.icp_model_coverage);
   } else if (result.icp_rmse_m > max_rmse) {
     reject(LostReason::HighResidual);
     std::snprintf(why, sizeof(why), "residual %.1f mm above %.1f mm", 1e3f * result.icp_rmse_m, 1e3f * max_rmse);

@@ -29,6 +29,8 @@ void TrackerParams::validate() const {
   require(min_depth_share > 0 && min_depth_share < 1, "min_depth_share must be in (0, 1)");
   require(max_speed_m_s > 0 && max_turn_deg_s > 0 && reach_slack_m >= 0 && reach_slack_deg >= 0,
           "the relocalisation reach (speed, turn rate, slack) must be positive");
+  require(min_share_of_recent_match >= 0 && min_share_of_recent_match < 1, "min_share_of_recent_match must be in [0, 1)");
+  require(recent_frames >= 1 && recent_frames <= 1000, "recent_frames must be in [1, 1000]");
 }
 
 Tracker::Tracker(Pipeline& pipeline, PoseSource poses, const TrackerParams& params)
@@ -141,7 +143,10 @@ Tracker::Step Tracker::trackOn(const RgbdFrame& frame) {
     return lost(r);
   }
   FrameResult r = pipeline_.track(predictedPose(frame), TrackingCheck{pipeline_.pose(), false});
+  if (r.tracked) rejectCollapse(r);
   if (!r.tracked) return lost(r);
+  recent_match_.push_back(r.icp_inlier_fraction);
+  if (int(recent_match_.size()) > params_.recent_frames) recent_match_.erase(recent_match_.begin());
   Step step;
   if (state_ == State::Probation) {
     ++probation_count_;
@@ -157,6 +162,21 @@ Tracker::Step Tracker::trackOn(const RgbdFrame& frame) {
   if (state_ == State::Tracking) harvest(frame, r);
   step.result = std::move(r);
   return step;
+}
+
+void Tracker::rejectCollapse(FrameResult& r) const {
+  // A few frames first: right after the start or a relocalisation the share can only grow.
+  if (int(recent_match_.size()) < std::min(5, params_.recent_frames)) return;
+  std::vector<float> sorted = recent_match_;
+  std::nth_element(sorted.begin(), sorted.begin() + std::ptrdiff_t(sorted.size() / 2), sorted.end());
+  const float median = sorted[sorted.size() / 2];
+  if (r.icp_inlier_fraction >= params_.min_share_of_recent_match * median) return;
+  r.tracked = false;
+  r.reason = LostReason::Collapse;
+  char text[200];
+  std::snprintf(text, sizeof(text), "%.0f%% of pixels matched the model (residual %.1f mm), where the last %zu frames matched %.0f%% (median)",
+                100.f * r.icp_inlier_fraction, 1e3f * r.icp_rmse_m, recent_match_.size(), 100.f * median);
+  r.lost_reason = text;
 }
 
 Tracker::Step Tracker::relocalise(const RgbdFrame& frame) {
@@ -227,6 +247,7 @@ Tracker::Step Tracker::relocalise(const RgbdFrame& frame) {
     return lost(r);
   }
   ++relocalisations_;
+  recent_match_.clear();  // the relocalised view may overlap the model less than the frames before
   Step step;
   state_ = State::Probation;
   probation_count_ = 1;
@@ -284,6 +305,8 @@ void Tracker::write(std::vector<uint8_t>& out) const {
   w.pose(last_good_);
   w.pod(last_good_time_);
   w.pod<int32_t>(last_good_index_);
+  w.pod<uint32_t>(uint32_t(recent_match_.size()));
+  for (float f : recent_match_) w.pod(f);
   w.pod<uint8_t>(last_given_ ? 1 : 0);
   w.pose(last_given_.value_or(Pose::Identity()));
   keyframes_.write(out);
@@ -300,6 +323,13 @@ void Tracker::read(ByteReader& in) {
   last_good_time_ = in.read<double>("last good time");
   last_good_index_ = in.read<int32_t>("last good frame index");
   if (last_good_index_ < -1) in.fail("last good frame index " + std::to_string(last_good_index_));
+  const uint32_t recent = in.read<uint32_t>("recent match count");
+  if (recent > uint32_t(std::max(params_.recent_frames, 0))) in.fail("recent match count " + std::to_string(recent));
+  recent_match_.resize(recent);
+  for (float& f : recent_match_) {
+    f = in.read<float>("recent match");
+    if (!(f >= 0.f && f <= 1.f)) in.fail("a recent match share outside [0, 1]");
+  }
   last_good_frame_.reset();
   last_good_features_.reset();
   const bool has_given = in.read<uint8_t>("recorded pose flag") != 0;

@@ -29,6 +29,13 @@ struct TrackerParams {
   int relocalise_by_code = 3;              // keyframes nearest by code tried as relocalisation candidates
   int relocalise_recent = 2;               // and the latest keyframes, whatever their code
   float min_depth_share = 0.02f;           // less of the image in range counts as no depth
+  // A camera that jumped (frames cut out, a dropped stretch) can leave ICP in a wrong minimum
+  // within the jump limits: fr1/xyz with frames 320-379 cut, the frame after the cut matched 22 %
+  // of its pixels (residual 18.7 mm) where the frames before matched 78-86 % (4.5-8.6 mm), and
+  // was fused 75 cm from where it was taken. A frame matching less than this share of the median
+  // of the last `recent_frames` tracked frames is treated as lost, and relocalised.
+  float min_share_of_recent_match = 0.5f;
+  int recent_frames = 15;
   // A relocalised pose must be one the camera could have reached since it was last tracked: a
   // hand-held or walking camera moves at most this fast (plus the slack below), so a view that
   // merely looks like an earlier one (a corridor's twin doors) is not taken for it.
@@ -78,6 +85,8 @@ class Tracker {
   void harvest(const RgbdFrame& frame, const FrameResult& result);
   Pose predictedPose(const RgbdFrame& frame) const;
   void markLastGood(const Pose& T, const RgbdFrame& frame);
+  // Marks a tracked result lost when it matched far less than the recent frames.
+  void rejectCollapse(FrameResult& r) const;
 
   Pipeline& pipeline_;
   PoseSource poses_;
@@ -90,6 +99,7 @@ class Tracker {
   Pose last_good_ = Pose::Identity();          // the last pose tracked (or relocalised) well
   double last_good_time_ = 0;                  // its frame's timestamp
   int last_good_index_ = -1;                   // its frame's index
+  std::vector<float> recent_match_;            // inlier fractions of the last tracked frames, oldest first
   std::optional<RgbdFrame> last_good_frame_;   // that frame, once handed over
   std::optional<FrameFeatures> last_good_features_;  // its features, computed when first needed
   std::optional<Pose> last_given_;             // GivenIcp: the recorded pose of the previous frame
