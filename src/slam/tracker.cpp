@@ -165,7 +165,8 @@ Tracker::Step Tracker::trackOn(const RgbdFrame& frame) {
 }
 
 void Tracker::rejectCollapse(FrameResult& r) const {
-  // A few frames first: right after the start or a relocalisation the share can only grow.
+  // A few frames first: right after the start or a relocalisation the model is thin and the
+  // share is still rising.
   if (int(recent_match_.size()) < std::min(5, params_.recent_frames)) return;
   std::vector<float> sorted = recent_match_;
   std::nth_element(sorted.begin(), sorted.begin() + std::ptrdiff_t(sorted.size() / 2), sorted.end());

@@ -2,11 +2,13 @@
 // Decides, frame by frame, which pose to trust and whether to fuse, driving the fusion Pipeline
 // step by step (fusion/pipeline.h: measure, track, commit or skip):
 //   Starting   until a frame has depth: the map starts there (a lens cap, a warming sensor).
-//   Tracking   frame-to-model ICP from the predicted pose; a frame the judge rejects is not
-//              fused, has no pose, and tracking is lost.
+//   Tracking   frame-to-model ICP from the predicted pose; a frame the judge rejects (or one that
+//              matched far less than the frames before it) is not fused, has no pose, and
+//              tracking is lost.
 //   Lost       each frame tries candidate poses: the last good one, and the keyframes nearest by
-//              appearance code, also moved by the point features they share with the frame; ICP
-//              from each against the model raycast from there, judged strictly.
+//              appearance code, also moved by the point features they (and the last good frame)
+//              share with the frame; ICP from each against the model raycast from there, judged
+//              strictly.
 //   Probation  a relocalised pose must track for a few frames before fusion resumes; their poses
 //              are pending until then, and dropped if the pose does not hold.
 // Keyframes are harvested while tracking is good and the view is new (slam/keyframes.h).
