@@ -201,6 +201,33 @@ std::optional<Reconstruction::Outcome> Reconstruction::afterFrame(const Callback
   return std::nullopt;
 }
 
+namespace {
+
+// The frames first..end-1 in order, each with its index: decoded ahead on a thread, or all
+// decoded before the first is handed out (preload: --bench times fusion without the decoding).
+class FrameFeed {
+ public:
+  FrameFeed(const FrameSource& source, int first, int end, bool preload)
+      : prefetcher_(source, first, preload ? 0 : end - first), preload_(preload), next_(first) {
+    if (preload)
+      for (int i = first; i < end; ++i) preloaded_.push_back(source.load(i));
+  }
+  RgbdFrame next() {
+    RgbdFrame frame = preload_ ? std::move(preloaded_[taken_++]) : std::move(*prefetcher_.next());
+    frame.index = next_++;
+    return frame;
+  }
+
+ private:
+  FramePrefetcher prefetcher_;
+  bool preload_;
+  std::vector<RgbdFrame> preloaded_;
+  size_t taken_ = 0;
+  int next_;
+};
+
+}  // namespace
+
 Reconstruction::Outcome Reconstruction::run(const Callbacks& callbacks, bool preload) {
   if (pass_ == 1) {
     const Outcome first = runFirstPass(callbacks, preload);
@@ -214,13 +241,9 @@ Reconstruction::Outcome Reconstruction::run(const Callbacks& callbacks, bool pre
 
 Reconstruction::Outcome Reconstruction::runFirstPass(const Callbacks& callbacks, bool preload) {
   const int first = progress_.frames_done;
-  std::vector<RgbdFrame> preloaded;
-  if (preload)
-    for (int i = first; i < frame_count_; ++i) preloaded.push_back(source_.load(i));
-  FramePrefetcher prefetcher(source_, first, preload ? 0 : frame_count_ - first);
+  FrameFeed feed(source_, first, frame_count_, preload);
   for (int i = first; i < frame_count_; ++i) {
-    RgbdFrame frame = preload ? std::move(preloaded[size_t(i - first)]) : std::move(*prefetcher.next());
-    frame.index = i;
+    RgbdFrame frame = feed.next();
     // A recorder that drops frames may repeat the last depth image byte for byte while the camera
     // moves on (7-Scenes: 43 of redkitchen's first 500 frames). Taken at face value it says the
     // camera stood still; it carries no measurement of its own, so it gets no pose and is not fused.
@@ -279,13 +302,9 @@ Reconstruction::Outcome Reconstruction::runSecondPass(const Callbacks& callbacks
   std::vector<int> pose_of(size_t(frame_count_), -1);
   for (size_t k = 0; k < posed_frames_.size(); ++k) pose_of[size_t(posed_frames_[k])] = int(k);
   const int first = progress_.frames_done;
-  std::vector<RgbdFrame> preloaded;
-  if (preload)
-    for (int i = first; i < frame_count_; ++i) preloaded.push_back(source_.load(i));
-  FramePrefetcher prefetcher(source_, first, preload ? 0 : frame_count_ - first);
+  FrameFeed feed(source_, first, frame_count_, preload);
   for (int i = first; i < frame_count_; ++i) {
-    RgbdFrame frame = preload ? std::move(preloaded[size_t(i - first)]) : std::move(*prefetcher.next());
-    frame.index = i;
+    RgbdFrame frame = feed.next();
     FrameResult result;
     const int k = pose_of[size_t(i)];
     if (k >= 0) {

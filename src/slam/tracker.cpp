@@ -116,14 +116,17 @@ Tracker::Step Tracker::withGivenPose(const RgbdFrame& frame) {
   return step;
 }
 
-Tracker::Step Tracker::start(const RgbdFrame& frame) {
+std::optional<Tracker::Step> Tracker::lostWithoutDepth(const RgbdFrame& frame, const char* note) {
   std::string why;
-  if (!hasDepth(frame, &why)) {
-    FrameResult r;
-    r.reason = LostReason::NoDepth;
-    r.lost_reason = why + "; the map starts at the first frame with depth";
-    return lost(r);
-  }
+  if (hasDepth(frame, &why)) return std::nullopt;
+  FrameResult r;
+  r.reason = LostReason::NoDepth;
+  r.lost_reason = why + note;
+  return lost(r);
+}
+
+Tracker::Step Tracker::start(const RgbdFrame& frame) {
+  if (std::optional<Step> none = lostWithoutDepth(frame, "; the map starts at the first frame with depth")) return *none;
   Step step;
   const Pose T = poses_ == PoseSource::GivenIcp ? *frame.T_world_cam_given : Pose::Identity();
   pipeline_.commit(T, true, step.result);
@@ -135,13 +138,7 @@ Tracker::Step Tracker::start(const RgbdFrame& frame) {
 }
 
 Tracker::Step Tracker::trackOn(const RgbdFrame& frame) {
-  std::string why;
-  if (!hasDepth(frame, &why)) {
-    FrameResult r;
-    r.reason = LostReason::NoDepth;
-    r.lost_reason = why;
-    return lost(r);
-  }
+  if (std::optional<Step> none = lostWithoutDepth(frame)) return *none;
   FrameResult r = pipeline_.track(predictedPose(frame), TrackingCheck{pipeline_.pose(), false});
   if (r.tracked) rejectCollapse(r);
   if (!r.tracked) return lost(r);
@@ -181,13 +178,7 @@ void Tracker::rejectCollapse(FrameResult& r) const {
 }
 
 Tracker::Step Tracker::relocalise(const RgbdFrame& frame) {
-  std::string why;
-  if (!hasDepth(frame, &why)) {
-    FrameResult r;
-    r.reason = LostReason::NoDepth;
-    r.lost_reason = why;
-    return lost(r);
-  }
+  if (std::optional<Step> none = lostWithoutDepth(frame)) return *none;
   const MeasurementParams& m = pipeline_.params().measurement;
   std::vector<Pose> candidates{last_good_};
   auto addCandidate = [&](const Pose& T) {

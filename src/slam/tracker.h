@@ -84,6 +84,8 @@ class Tracker {
   Step withGivenPose(const RgbdFrame& frame);
   // The share of the frame's pixels with depth in range, and the median of all its readings.
   bool hasDepth(const RgbdFrame& frame, std::string* why) const;
+  // The frame lost for want of depth (the report ends with `note`); nullopt when it has depth.
+  std::optional<Step> lostWithoutDepth(const RgbdFrame& frame, const char* note = "");
   void harvest(const RgbdFrame& frame, const FrameResult& result);
   Pose predictedPose(const RgbdFrame& frame) const;
   void markLastGood(const Pose& T, const RgbdFrame& frame);
