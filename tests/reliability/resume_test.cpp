@@ -30,6 +30,20 @@ std::vector<Pose> fuse(Pipeline& p, const TumDataset& data, int first, int end) 
   return poses;
 }
 
+// Teddy's first 40 frames with every loop taken as a correction (loops 15 frames apart, none
+// agreeing, any move re-fused), so that a run always reaches its second pass.
+ReconstructionOptions secondPassOptions(const std::string& dataset) {
+  ReconstructionOptions options;
+  options.params = test::teddyParams();
+  options.device = Device::Cpu;
+  options.max_frames = 40;
+  options.settings = {{"dataset", dataset}};
+  options.global.loops.min_separation_frames = 15;
+  options.global.loops_agree_chi = 0;
+  options.global.min_correction_m = 0;
+  return options;
+}
+
 class ResumeTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -137,14 +151,7 @@ TEST_F(ResumeTest, AReconstructionStoppedAndResumedEndsAsOneThatRanThrough) {
 // that ran through, voxel for voxel and pose for pose. The loop closure is told to act on what
 // it finds in the teddy's 40 frames (its defaults leave such agreeing loops alone).
 TEST_F(ResumeTest, ARunStoppedInItsSecondPassResumesToTheSameScene) {
-  ReconstructionOptions options;
-  options.params = test::teddyParams();
-  options.device = Device::Cpu;
-  options.max_frames = 40;
-  options.settings = {{"dataset", "teddy"}};
-  options.global.loops.min_separation_frames = 15;
-  options.global.loops_agree_chi = 0;
-  options.global.min_correction_m = 0;
+  const ReconstructionOptions options = secondPassOptions("teddy");
   Reconstruction through(*data_, options);
   ASSERT_EQ(through.run({}), Reconstruction::Outcome::Finished);
   ASSERT_EQ(through.pass(), 2) << "no loop moved the poses: the second pass was not reached";
@@ -189,14 +196,7 @@ class TeddyWithBlankFrames : public FrameSource {
 
 TEST_F(ResumeTest, ASecondPassCheckpointKeepsTheFirstPassLostFrames) {
   const TeddyWithBlankFrames data(*data_);
-  ReconstructionOptions options;
-  options.params = test::teddyParams();
-  options.device = Device::Cpu;
-  options.max_frames = 40;
-  options.settings = {{"dataset", "teddy-blank"}};
-  options.global.loops.min_separation_frames = 15;
-  options.global.loops_agree_chi = 0;
-  options.global.min_correction_m = 0;
+  const ReconstructionOptions options = secondPassOptions("teddy-blank");
   Reconstruction through(data, options);
   ASSERT_EQ(through.run({}), Reconstruction::Outcome::Finished);
   ASSERT_EQ(through.pass(), 2) << "no loop moved the poses: the second pass was not reached";
