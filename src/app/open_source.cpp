@@ -180,7 +180,7 @@ void addDatasetOptions(CLI::App& cmd, SourceOptions& options) {
                  "Depth units per metre, overriding the input's own (1000 = mm, 5000 = TUM, 6553.5 = Replica)");
   cmd.add_option("--photometric", options.photometric,
                  "Photometric ICP term: on, off, or auto (off when colour is not registered to depth, as in "
-                 "ScanNet)")
+                 "ScanNet and 7-Scenes)")
       ->capture_default_str()
       ->check(CLI::IsMember({"auto", "on", "off"}));
 }
