@@ -53,7 +53,7 @@ record() {
 for round in $(seq 1 "$ROUNDS"); do
   for name in "${NAMES[@]}"; do
     log="$OUT/$name.log"
-    if ! "$VF" reconstruct "${PATHS[$name]}" -o "$OUT/$name.vdb" -q -f "${EXTRA[@]}" >"$log" 2>&1; then
+    if ! "$VF" reconstruct "${PATHS[$name]}" -o "$OUT/$name.vdb" -q -f --verbose "${EXTRA[@]}" >"$log" 2>&1; then
       cat "$log"
       echo "bench_scale: vdbfuse reconstruct failed on $name" >&2
       exit 2

@@ -75,7 +75,7 @@ for seq in "${SEQUENCES[@]}"; do
     [ $((run % 2)) -eq 0 ] && order=(open3d vdbfuse)
     for who in "${order[@]}"; do
       if [ "$who" = vdbfuse ]; then
-        run_timed vdbfuse "$OUT/vdbfuse.log" "$VF" reconstruct "$seq" -o "$OUT/$name.vdb" -q -f \
+        run_timed vdbfuse "$OUT/vdbfuse.log" "$VF" reconstruct "$seq" -o "$OUT/$name.vdb" -q -f --verbose \
           --trajectory "$OUT/$name.vdbfuse.txt"
       elif [ -n "$PEER" ]; then
         run_timed open3d "$OUT/open3d.log" "$PEER" --dataset "$seq" --out "$OUT/o3d_$name"

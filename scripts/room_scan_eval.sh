@@ -38,7 +38,7 @@ step "generate: $ROOM_TOOL $OUT/room --frames $FRAMES --seed $SEED"
 "$ROOM_TOOL" "$OUT/room" --frames "$FRAMES" --seed "$SEED" || fail "generating the room failed"
 
 step "reconstruct: vdbfuse reconstruct room -o scene.vdb ${EXTRA[*]:-(default options)}"
-if ! /usr/bin/time -v -o "$OUT/time.txt" "$VF" reconstruct "$OUT/room" -o "$OUT/scene.vdb" \
+if ! /usr/bin/time -v -o "$OUT/time.txt" "$VF" reconstruct "$OUT/room" -o "$OUT/scene.vdb" --verbose \
     --trajectory "$OUT/trajectory.txt" -q -f "${EXTRA[@]}" >"$OUT/reconstruct.txt" 2>"$OUT/reconstruct.err"; then
   cat "$OUT/reconstruct.txt" "$OUT/reconstruct.err"
   fail "vdbfuse reconstruct failed"

@@ -2,9 +2,29 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 namespace vf::app {
+
+std::string clockDuration(double seconds) {
+  const long total = std::lround(std::max(0.0, seconds));
+  const long h = total / 3600, m = total / 60 % 60, s = total % 60;
+  char text[32];
+  if (h > 0)
+    std::snprintf(text, sizeof text, "%ld:%02ld:%02ld", h, m, s);
+  else
+    std::snprintf(text, sizeof text, "%ld:%02ld", m, s);
+  return text;
+}
+
+std::string estimatedTimeLeft(int done, int total, double elapsed_s) {
+  // The first frames carry start-up costs (allocation, the first keyframes): wait for a few
+  // percent of the run and a second of work before extrapolating.
+  if (done <= 0 || total <= 0 || done >= total || elapsed_s < 1.0 || done * 50 < total) return "";
+  return clockDuration(elapsed_s * double(total - done) / double(done));
+}
 
 ProgressBar::ProgressBar(int total, bool enabled)
     : total_(total), enabled_(enabled), tty_(isatty(STDERR_FILENO) != 0),
@@ -20,7 +40,10 @@ void ProgressBar::update(int done, const std::string& note) {
   if (tty_) {
     std::string bar(size_t(filled), '#');
     bar.resize(size_t(width), '.');
-    std::fprintf(stderr, "\r[%s] %d/%d  %.1f frames/s  %s\033[K", bar.c_str(), done, total_, fps, note.c_str());
+    const std::string left = estimatedTimeLeft(done, total_, seconds);
+    std::fprintf(stderr, "\r[%s] %d/%d  %.1f frames/s  %s elapsed%s%s  %s\033[K", bar.c_str(), done, total_, fps,
+                 clockDuration(seconds).c_str(), left.empty() ? "" : ", about ", left.empty() ? "" : (left + " left").c_str(),
+                 note.c_str());
     std::fflush(stderr);
   } else {
     const int decile = done * 10 / total_;

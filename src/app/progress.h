@@ -1,6 +1,7 @@
 #pragma once
-// A one-line progress bar with frames/s on stderr (redrawn in place on a terminal, printed every
-// tenth of the run otherwise so logs stay short).
+// A one-line progress bar on stderr: on a terminal it is redrawn in place with frames/s, the time
+// elapsed and an estimate of the time left; otherwise a line is printed every tenth of the run so
+// that logs stay short (and free of estimates that a log reader cannot use).
 #include <chrono>
 #include <string>
 
@@ -18,5 +19,10 @@ class ProgressBar {
   int last_decile_ = -1;
   std::chrono::steady_clock::time_point start_;
 };
+
+// "0:41", "12:05", "1:02:09": a duration the way a clock shows it.
+std::string clockDuration(double seconds);
+// The time left at a constant rate; empty while too little is done for the rate to mean anything.
+std::string estimatedTimeLeft(int done, int total, double elapsed_s);
 
 }  // namespace vf::app

@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "app/command_registry.h"
+#include "app/depth_range_tally.h"
 #include "app/frame_renders.h"
 #include "app/memory_check.h"
 #include "app/progress.h"
@@ -121,9 +122,13 @@ void runReconstruct(const ReconstructOptions& o) {
   auto progress = std::make_unique<ProgressBar>(run.frameCount(), !o.quiet);
   Reconstruction::Callbacks callbacks;
   std::vector<int> bricks_per_frame;
+  DepthRangeTally depth_range(fusion.params.measurement.min_depth_m, fusion.params.measurement.max_depth_m);
   callbacks.on_frame = [&](const RgbdFrame& frame, const FrameResult& result) {
     if (result.integrated) bricks_per_frame.push_back(result.bricks_fused);
-    if (run.pass() == 1) renders.add(run.framesDone() - 1, frame, run.pipeline());
+    if (run.pass() == 1) {
+      renders.add(run.framesDone() - 1, frame, run.pipeline());
+      if (result.integrated) depth_range.add(frame.depth);
+    }
     const size_t lost = run.lostFrames().size();
     progress->update(run.framesDone(), lost == 0 || run.pass() == 2 ? "" : std::to_string(lost) + " lost");
   };
@@ -176,15 +181,20 @@ void runReconstruct(const ReconstructOptions& o) {
   printTrackingSummary(run.frameCount(), run.lostFrames(), run.framesFused(), run.tracker().relocalisations());
   if (run.framesFused() == 0) throw Error(nothingFusedMessage(o, run));
   if (labeled) printLabelSummary(labeled->stats(), labeled->classes(), run.frameCount());
+  // A resumed run counted only the frames after the checkpoint: still a fair share.
+  if (const std::string dropped = depth_range.report(); !dropped.empty()) std::printf("%s\n", dropped.c_str());
   if (fusion.poses != PoseSource::Given) printLoopClosure(run.globalReport(), fusion.global.loop_closure);
+  // The stage table is for whoever tunes the engine; a user reads the frames and the time.
+  const bool stage_table = o.verbose || o.bench;
   if (first_pass_timer) {
     std::printf("\nfirst pass (tracking and fusion):");
-    printTimingTable(*first_pass_timer, first_pass_frames - first, first_pass_s, {});
+    printTimingTable(*first_pass_timer, first_pass_frames - first, first_pass_s, {}, stage_table);
     std::printf("\nsecond pass (fusion at the optimised poses):");
-    printTimingTable(run.pipeline().timer(), run.frameCount(), wall_s - first_pass_s, std::move(bricks_per_frame));
+    printTimingTable(run.pipeline().timer(), run.frameCount(), wall_s - first_pass_s, std::move(bricks_per_frame),
+                     stage_table);
   } else {
     if (resumed_in_second_pass) std::printf("\nsecond pass, resumed:");
-    printTimingTable(run.pipeline().timer(), run.frameCount() - first, wall_s, std::move(bricks_per_frame));
+    printTimingTable(run.pipeline().timer(), run.frameCount() - first, wall_s, std::move(bricks_per_frame), stage_table);
   }
   const auto t0 = std::chrono::steady_clock::now();
   const Written written = writeOutputs(false);

@@ -53,6 +53,7 @@ void addReconstructOptions(CLI::App& cmd, ReconstructOptions& o) {
   cmd.add_option("--renders", o.renders_dir, "Write input | predicted color | shaded model PNGs per frame here");
   cmd.add_option("--video", o.video, "Write the same panels as an MP4 video");
   cmd.add_flag("--bench", o.bench, "Decode all frames first, then time the fusion stages alone");
+  cmd.add_flag("-v,--verbose", o.verbose, "Also print the time each fusion stage took (--bench does too)");
   cmd.add_flag("-q,--quiet", o.quiet, "No progress bar");
   cmd.add_flag("-f,--force", o.force, "Overwrite existing outputs");
   cmd.add_option("--checkpoint-every", o.checkpoint_every,

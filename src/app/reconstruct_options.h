@@ -27,7 +27,7 @@ struct ReconstructOptions {
   std::string device = "auto", poses = "icp", intrinsics;
   SourceOptions source;
   std::string renders_dir, video;
-  bool bench = false, quiet = false, force = false, resume = false;
+  bool bench = false, verbose = false, quiet = false, force = false, resume = false;
   int checkpoint_every = 0;  // frames; 0 = checkpoints only when interrupted
   // Semantic fusion.
   std::string labels_dir, classes_file, dynamic_classes;  // classes: default labels_dir/classes.json

@@ -1,5 +1,7 @@
 #include "app/reconstruct_report.h"
 
+#include "app/progress.h"
+
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -70,7 +72,16 @@ void printLabelSummary(const LabelStats& stats, const ClassTable& classes, int f
   }
 }
 
-void printTimingTable(const StageTimer& timer, int frames, double wall_s, std::vector<int> bricks_per_frame) {
+void printTimingTable(const StageTimer& timer, int frames, double wall_s, std::vector<int> bricks_per_frame,
+                      bool stage_table) {
+  if (!stage_table) {
+    char seconds[32];
+    std::snprintf(seconds, sizeof seconds, "%.1f s", wall_s);
+    const std::string took = wall_s < 60 ? seconds : clockDuration(wall_s);
+    std::printf("\n%d frames in %s (%.1f frames/s including I/O)\n", frames, took.c_str(),
+                wall_s > 0 ? frames / wall_s : 0.0);
+    return;
+  }
   std::printf("\n%-12s %10s %10s %10s\n", "stage", "median ms", "mean ms", "total s");
   double sum_median = 0;
   for (const std::string& stage : timer.stages()) {

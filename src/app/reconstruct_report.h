@@ -17,9 +17,11 @@ void printTrackingSummary(int frames, const std::vector<LostFrame>& lost, int fr
 // "loop closure: N keyframes, K candidate pairs checked, F loops found, A hold; frames moved ...".
 void printLoopClosure(const slam::GlobalReport& report, bool enabled);
 void printLabelSummary(const LabelStats& stats, const ClassTable& classes, int frames);
-// Per-stage medians and the frames/s they allow, then the wall time including decoding, then how
-// many bricks a fused frame reached (median and largest; empty: not printed).
-void printTimingTable(const StageTimer& timer, int frames, double wall_s, std::vector<int> bricks_per_frame);
+// The wall time including decoding; with `stage_table`, first the per-stage medians and the
+// frames/s they allow, and after it how many bricks a fused frame reached (median and largest;
+// empty: not printed).
+void printTimingTable(const StageTimer& timer, int frames, double wall_s, std::vector<int> bricks_per_frame,
+                      bool stage_table);
 // The volume's size and the process's real peak resident memory (getrusage), printed last so that
 // the scene conversion and write are included.
 void printMemory(int bricks, size_t volume_bytes);

@@ -38,7 +38,7 @@ struct FusedRun {
 FusedRun reconstructAndEvaluate(const std::string& sequence, const std::vector<std::string>& options = {}) {
   const std::string dataset = test::dataPath(sequence);
   const std::string dir = test::tempDir("accuracy_" + sequence);
-  std::vector<std::string> args{"reconstruct", dataset, "-o", dir + "/scene.vdb", "-q"};
+  std::vector<std::string> args{"reconstruct", dataset, "-o", dir + "/scene.vdb", "-q", "--verbose"};
   args.insert(args.end(), options.begin(), options.end());
   const test::CliRun fused = test::runVdbfuse(args, 0, 1800);
   EXPECT_EQ(fused.status, 0) << fused.output;
