@@ -31,13 +31,30 @@ std::string unknownLayout(const std::string& path, const std::string& what) {
   return path + ": " + what + "; the known layouts are (--format forces one):\n" + kKnownLayouts;
 }
 
-bool hasSequenceFolders(const fs::path& dir) {
+// The layout of a folder, from the files it holds; empty when none fits.
+std::string folderLayout(const fs::path& p) {
+  if (fs::exists(p / "depth.txt") || fs::exists(p / "rgb.txt")) return "tum";
+  if (fs::exists(p / "metadata.json")) return "r3d-export";
+  if (fs::exists(p / "metadata") && fs::is_directory(p / "rgbd")) return "r3d";
+  if (looksLikeSevenScenes(p.string())) return "7scenes";
+  if (looksLikeReplica(p.string())) return "replica";
+  if (looksLikeScanNet(p.string())) return "scannet";
+  if (looksLikeRedwood(p.string())) return "redwood";
+  return "";
+}
+
+// Sequences one level down ("office0 (replica)"): a dataset's download often wraps the frames in
+// a scene folder (Replica's office0/, 7-Scenes' seq-01/), and the user names the wrapper.
+std::vector<std::string> sequencesInside(const fs::path& dir) {
+  std::vector<std::string> found;
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(dir, ec))
-    if (entry.is_directory() && entry.path().filename().string().rfind("seq-", 0) == 0 &&
-        looksLikeSevenScenes(entry.path().string()))
-      return true;
-  return false;
+    if (entry.is_directory(ec)) {
+      const std::string layout = folderLayout(entry.path());
+      if (!layout.empty()) found.push_back(entry.path().filename().string() + " (" + layout + ")");
+    }
+  std::sort(found.begin(), found.end());
+  return found;
 }
 
 std::string detectFormat(const std::string& path) {
@@ -47,15 +64,14 @@ std::string detectFormat(const std::string& path) {
     if (p.extension() == ".r3d") return "r3d";
     throw Error(unknownLayout(path, "not a known capture file"));
   }
-  if (fs::exists(p / "depth.txt") || fs::exists(p / "rgb.txt")) return "tum";
-  if (fs::exists(p / "metadata.json")) return "r3d-export";
-  if (fs::exists(p / "metadata") && fs::is_directory(p / "rgbd")) return "r3d";
-  if (looksLikeSevenScenes(path)) return "7scenes";
-  if (looksLikeReplica(path)) return "replica";
-  if (looksLikeScanNet(path)) return "scannet";
-  if (looksLikeRedwood(path)) return "redwood";
-  if (hasSequenceFolders(p))
-    throw Error(path + ": a 7-Scenes/3DMatch scene; name one of its seq-XX folders, which hold the frames");
+  if (const std::string layout = folderLayout(p); !layout.empty()) return layout;
+  if (const std::vector<std::string> inside = sequencesInside(p); !inside.empty()) {
+    std::string list;
+    for (size_t i = 0; i < inside.size() && i < 6; ++i) list += (i ? ", " : "") + inside[i];
+    if (inside.size() > 6) list += ", ...";
+    throw Error(path + ": not a sequence itself, but it holds " + std::to_string(inside.size()) + " (" + list +
+                "); name the folder of the one to read, e.g. " + (p / inside[0].substr(0, inside[0].find(" ("))).string());
+  }
   if (fs::is_directory(p / "results") || fs::exists(p / "traj.txt"))
     throw Error(unknownLayout(path, "looks like Replica but needs both results/ and traj.txt"));
   throw Error(unknownLayout(path, "not a folder of a known RGB-D layout"));

@@ -144,16 +144,30 @@ TEST(DatasetCli, UnknownLayoutListsTheKnownOnes) {
     EXPECT_NE(log.find(std::string("  ") + layout + " "), std::string::npos) << layout << "\n" << log;
   // A 7-Scenes/3DMatch scene folder holds its frames in seq-XX folders: say which to give.
   const std::string scene = test::tempDir("cli_scene");
+  test::writeSevenScenes(scene + "/seq-02", test::fixturePoses(2));
   test::writeSevenScenes(scene + "/seq-01", test::fixturePoses(2));
   const std::string seq = run("reconstruct " + scene + " -o " + dir + "/s.vdb" + kSmall, status);
   EXPECT_NE(status, 0);
-  EXPECT_NE(seq.find("name one of its seq-XX folders"), std::string::npos) << seq;
+  EXPECT_NE(seq.find(scene + ": not a sequence itself, but it holds 2 (seq-01 (7scenes), seq-02 (7scenes)); name the "
+                     "folder of the one to read, e.g. " + scene + "/seq-01"), std::string::npos) << seq;
   // A forced format that does not fit says what it expected.
   const std::string seven = test::tempDir("cli_forced");
   test::writeSevenScenes(seven, test::fixturePoses(2));
   const std::string forced = run("reconstruct " + seven + " --format replica -o " + dir + "/s.vdb" + kSmall, status);
   EXPECT_NE(status, 0);
   EXPECT_NE(forced.find("traj.txt"), std::string::npos) << forced;
+}
+
+// Issue 37: the shared Replica sample wraps its sequence in office0/ (cam_params.json beside it),
+// and a new user names the wrapper.
+TEST(DatasetCli, AWrapperFolderNamesTheSequenceInside) {
+  VF_REQUIRE_DATA(replica, "replica_office0");
+  const std::string dir = test::tempDir("cli_wrapper");
+  int status = 0;
+  const std::string log = run("reconstruct " + replica + " -o " + dir + "/s.vdb" + kSmall, status);
+  EXPECT_NE(status, 0);
+  EXPECT_NE(log.find("it holds 1 (office0 (replica)); name the folder of the one to read, e.g. " + replica + "/office0"),
+            std::string::npos) << log;
 }
 
 TEST(DatasetCli, UnzippedRecord3dFolderIsDetected) {
