@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 namespace vf::app {
 
@@ -26,8 +27,8 @@ std::string estimatedTimeLeft(int done, int total, double elapsed_s) {
   return clockDuration(elapsed_s * double(total - done) / double(done));
 }
 
-ProgressBar::ProgressBar(int total, bool enabled)
-    : total_(total), enabled_(enabled), tty_(isatty(STDERR_FILENO) != 0),
+ProgressBar::ProgressBar(int total, bool enabled, std::string unit)
+    : total_(total), enabled_(enabled), tty_(isatty(STDERR_FILENO) != 0), unit_(std::move(unit)),
       start_(std::chrono::steady_clock::now()) {}
 
 void ProgressBar::update(int done, const std::string& note) {
@@ -41,7 +42,7 @@ void ProgressBar::update(int done, const std::string& note) {
     std::string bar(size_t(filled), '#');
     bar.resize(size_t(width), '.');
     const std::string left = estimatedTimeLeft(done, total_, seconds);
-    std::fprintf(stderr, "\r[%s] %d/%d  %.1f frames/s  %s elapsed%s%s  %s\033[K", bar.c_str(), done, total_, fps,
+    std::fprintf(stderr, "\r[%s] %d/%d  %.1f %s/s  %s elapsed%s%s  %s\033[K", bar.c_str(), done, total_, fps, unit_.c_str(),
                  clockDuration(seconds).c_str(), left.empty() ? "" : ", about ", left.empty() ? "" : (left + " left").c_str(),
                  note.c_str());
     std::fflush(stderr);
@@ -49,7 +50,7 @@ void ProgressBar::update(int done, const std::string& note) {
     const int decile = done * 10 / total_;
     if (decile != last_decile_) {
       last_decile_ = decile;
-      std::fprintf(stderr, "%d/%d frames  %.1f frames/s  %s\n", done, total_, fps, note.c_str());
+      std::fprintf(stderr, "%d/%d %s  %.1f %s/s  %s\n", done, total_, unit_.c_str(), fps, unit_.c_str(), note.c_str());
     }
   }
 }

@@ -1,7 +1,8 @@
 #pragma once
-// A one-line progress bar on stderr: on a terminal it is redrawn in place with frames/s, the time
-// elapsed and an estimate of the time left; otherwise a line is printed every tenth of the run so
-// that logs stay short (and free of estimates that a log reader cannot use).
+// A one-line progress bar on stderr: on a terminal it is redrawn in place with the rate (frames/s,
+// or any other unit), the time elapsed and an estimate of the time left; otherwise a line is
+// printed every tenth of the run so that logs stay short (and free of estimates that a log reader
+// cannot use).
 #include <chrono>
 #include <string>
 
@@ -9,13 +10,14 @@ namespace vf::app {
 
 class ProgressBar {
  public:
-  ProgressBar(int total, bool enabled);
+  ProgressBar(int total, bool enabled, std::string unit = "frames");
   void update(int done, const std::string& note = "");
   void finish();
 
  private:
   int total_;
   bool enabled_, tty_;
+  std::string unit_;
   int last_decile_ = -1;
   std::chrono::steady_clock::time_point start_;
 };
