@@ -30,7 +30,7 @@ float DepthRangeTally::rangeKeeping(double share) const {
 }
 
 std::string DepthRangeTally::report(double suggest_share) const {
-  if (beyond_ == 0) return "";
+  if (beyondShare() < kNegligibleShare) return "";
   char line[256];
   std::snprintf(line, sizeof line, "depth: %.1f %% of the valid readings lie beyond --max-depth-m %.1f m and were not fused",
                 100.0 * beyondShare(), max_depth_m_);

@@ -20,11 +20,13 @@ class DepthRangeTally {
   double beyondShare() const { return valid_ > 0 ? double(beyond_) / double(valid_) : 0.0; }
   // The range that would keep `share` of the valid readings, in steps of a quarter metre.
   float rangeKeeping(double share) const;
-  // One line for the run's report ("" when nothing was dropped); from `suggest_share` on, it
-  // names the --max-depth-m that would fuse 99 % of the readings.
+  // One line for the run's report ("" when under a thousandth was dropped: a few stray far
+  // readings are no news); from `suggest_share` on, it names the --max-depth-m that would fuse
+  // 99 % of the readings.
   std::string report(double suggest_share = 0.02) const;
 
  private:
+  static constexpr double kNegligibleShare = 0.001;
   static constexpr float kBinM = 0.25f;
   static constexpr int kBins = 200;  // 50 m; readings further away count in the last bin
   float min_depth_m_, max_depth_m_;

@@ -53,6 +53,10 @@ TEST(DepthRangeTally, SaysNothingWhenNothingWasDroppedAndSuggestsOnlyWhenItMatte
   const std::string line = few.report();
   EXPECT_NE(line.find("1.0 % of the valid readings"), std::string::npos) << line;
   EXPECT_EQ(line.find("would fuse"), std::string::npos) << line;
+  DepthRangeTally stray(0.2f, 4.0f);
+  stray.add(splitDepth(4000, 2, 3998, 2.0f, 5.0f));  // 1 of 2000: no news
+  EXPECT_EQ(stray.beyondRange(), 1);
+  EXPECT_EQ(stray.report(), "");
 }
 
 }  // namespace
