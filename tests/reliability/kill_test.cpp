@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -28,12 +29,16 @@ namespace fs = std::filesystem;
 
 const std::string kVdbfuse = std::string(VDBFUSE_BINARY_DIR) + "/src/app/vdbfuse";
 
-pid_t spawn(const std::vector<std::string>& args) {
+// Starts vdbfuse with its output discarded, or with its stderr (the progress lines) readable
+// from *progress_fd.
+pid_t spawn(const std::vector<std::string>& args, int* progress_fd = nullptr) {
+  int fds[2] = {-1, -1};
+  if (progress_fd && pipe(fds) != 0) return -1;
   const pid_t pid = fork();
   if (pid == 0) {
     const int null_fd = open("/dev/null", O_WRONLY);
     dup2(null_fd, 1);
-    dup2(null_fd, 2);
+    dup2(progress_fd ? fds[1] : null_fd, 2);
     std::vector<char*> argv;
     argv.push_back(const_cast<char*>(kVdbfuse.c_str()));
     for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
@@ -41,7 +46,29 @@ pid_t spawn(const std::vector<std::string>& args) {
     execv(kVdbfuse.c_str(), argv.data());
     _exit(127);
   }
+  if (progress_fd) {
+    close(fds[1]);
+    *progress_fd = fds[0];
+  }
   return pid;
+}
+
+// Reads the child's progress until it has reported `frames` more frames done ("N/M frames"
+// lines, one a frame on a short run without a terminal) or closed its stderr (it ended).
+void waitForFrames(int fd, int frames) {
+  std::string text;
+  char buf[512];
+  int lines = 0;
+  while (lines < frames) {
+    const ssize_t n = read(fd, buf, sizeof buf);
+    if (n <= 0) return;
+    for (ssize_t i = 0; i < n; ++i) {
+      text.push_back(buf[i]);
+      if (buf[i] != '\n') continue;
+      lines += text.find(" frames ") != std::string::npos ? 1 : 0;
+      text.clear();
+    }
+  }
 }
 
 // Exit status, or 128 + signal when the process was killed.
@@ -115,27 +142,31 @@ TEST(KillTest, SigkillAtRandomPointsLeavesOnlyCompleteFilesAndResumeFinishesTheS
 
   OutputSet run("kill");
   std::mt19937 rng(2024);
-  // Kill times are drawn over the run's length; a run that finished first (the machine got
-  // faster, or a resumed run had few frames left) shortens the span of later draws, so that most
-  // runs are killed however the load on the machine changes (a fixed span did not, under ctest -j2).
-  std::uniform_real_distribution<double> fraction(0.0, 0.9);
-  double span_s = run_s;
+  // Kill moments are counted in frames the run reports done, then a random share of a frame's
+  // time: seconds alone (drawn over the reference run's length) landed every kill in the start-up
+  // once the machine was loaded more than during the reference run, and nothing was resumed.
+  std::uniform_int_distribution<int> frames_before_kill(0, 3);
+  std::uniform_real_distribution<double> share_of_frame(0.0, 1.0);
+  const double frame_s = run_s / kFrames;
   int killed = 0, finished = 0, resumed = 0, max_temps = 0;
   for (int attempt = 0; attempt < 20; ++attempt) {
     const bool resume = fs::exists(run.checkpoint);
     resumed += resume ? 1 : 0;
     std::vector<std::string> args = run.args(dataset, kFrames, resume ? "--resume" : "--force");
     args.insert(args.end(), {"--checkpoint-every", "2"});
-    const auto started = std::chrono::steady_clock::now();
-    const pid_t pid = spawn(args);
-    std::this_thread::sleep_for(std::chrono::duration<double>(fraction(rng) * span_s));
+    args.erase(std::find(args.begin(), args.end(), "-q"));  // the progress lines are the clock
+    int progress_fd = -1;
+    const pid_t pid = spawn(args, &progress_fd);
+    ASSERT_GT(pid, 0);
+    waitForFrames(progress_fd, frames_before_kill(rng));
+    std::this_thread::sleep_for(std::chrono::duration<double>(share_of_frame(rng) * frame_s));
     kill(pid, SIGKILL);
     const int status = waitFor(pid);
+    close(progress_fd);
     if (status == 128 + SIGKILL) ++killed;
     else {
       ASSERT_EQ(status, 0) << "attempt " << attempt;
       ++finished;
-      span_s = std::min(span_s, std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
     }
     max_temps = std::max(max_temps, checkFolder(run, kFrames));
   }
