@@ -316,6 +316,22 @@ TEST(LevelFrame, SceneContentTakesUpFromTheSceneAndFindsItsFloor) {
   EXPECT_NEAR(c.frame.max.z - c.frame.floor_m, test::kFloorY + test::kBallRadius, 0.01) << "the ball's top";
 }
 
+// A scene written before up was recorded: estimated as exports estimate it (here from the
+// floor plane under the ball), and the user is told.
+TEST(LevelFrame, SceneWithoutUpGetsItEstimatedWithANotice) {
+  const std::string dir = test::tempDir("viewer_level_frame_no_up");
+  Scene scene = test::tiltedBallOnFloorScene(20, 0);
+  const Vec3f floor_normal = scene.meta.up_world;
+  scene.meta.up_world = scene.meta.forward_world = {0, 0, 0};
+  scene.meta.up_source.clear();
+  writeScene(scene, dir + "/old.vdb");
+  const SceneContent c = loadSceneContent(dir + "/old.vdb", "", false, 0.f);
+  EXPECT_LT(degreesBetween(c.frame.up, floor_normal), 2.0) << "the floor's normal, not the first camera's -y";
+  ASSERT_FALSE(c.notices.empty());
+  EXPECT_NE(c.notices.back().find("estimated"), std::string::npos) << c.notices.back();
+  EXPECT_NE(c.frame.up_source.find("estimated"), std::string::npos) << c.frame.up_source;
+}
+
 TEST(Slice, FloorPlanIsHorizontalInTheScenesUpFrame) {
   // A floor tilted 25 degrees in the grid's axes: a plane 2 cm above it, sampled level, holds
   // tsdf = +2 cm wherever it is away from the ball; a plane tilted against the floor would not.
