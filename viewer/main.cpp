@@ -51,6 +51,7 @@ int runViewer(const ViewOptions& o, bool force) {
     std::printf("wrote %s (%dx%d): read %.2f s, mesh %.2f s, split %.2f s, actors %.2f s, render %.2f s, total %.2f s\n",
                 o.screenshot_path.c_str(), o.width, o.height, content.read_s, content.mesh_s, content.split_s,
                 view.buildSeconds(), view.firstRenderSeconds(), secondsSince(t0));
+    std::printf("%s\n", view.cameraReport().c_str());
     return 0;
   }
   std::printf("%s: %zu triangles, %zu classes; read %.2f s, mesh %.2f s, split %.2f s, actors %.2f s\n",
@@ -76,19 +77,26 @@ int main(int argc, char** argv) {
   app.add_option("scene", o.scene_path, "scene document (.vdb)")->required();
   app.add_option("--trajectory", o.trajectory_path, "TUM trajectory to draw (default: the scene's stem + .txt)");
   app.add_flag("--no-trajectory", no_trajectory, "do not draw the trajectory");
-  app.add_option("--frustum-every", o.frustum_every, "a camera frustum every N poses (default: about 20 in all)")
+  app.add_flag("--frusta", o.show_frusta, "draw camera frusta along the trajectory, spaced by the camera's motion "
+                                          "(key k toggles them)");
+  app.add_option("--frustum-every", o.frustum_every, "a camera frustum every N poses (implies --frusta)")
       ->check(vf::app::atLeast(1));
+  bool no_surface = false;
+  app.add_flag("--no-surface", no_surface, "hide the surface (key m toggles it): a slice shows unobstructed");
   app.add_option("--screenshot", o.screenshot_path, "render offscreen to this .png or .jpg and exit (needs X: xvfb-run -a)");
   app.add_flag("-f,--force", force, "overwrite an existing --screenshot file");
   app.add_option("--size", size, "window / picture size WIDTHxHEIGHT (default 1280x720)");
-  CLI::Option* camera_option =
-      app.add_option("--camera", camera, "front | top | side | trajectory:N (pose N of the trajectory); default: "
-                                         "front, or facing the slice");
+  CLI::Option* camera_option = app.add_option(
+      "--camera", camera, "front | top | side | trajectory:N (pose N of the trajectory); front looks the way the "
+                          "first camera did, level (the scene's up is the picture's up), side is turned 90 degrees "
+                          "about up, top looks down; default: front, or facing the slice");
   app.add_option("--color", color, "surface colors: fused rgb or class colors")
       ->check(CLI::IsMember({"rgb", "class"}))
       ->capture_default_str();
   app.add_option("--hide-classes", o.hide_classes, "classes to hide at start (names or ids)")->delimiter(',');
-  app.add_option("--slice", slice, "show a slice: x|y|z:VALUE in metres (world frame), e.g. z:1.5");
+  app.add_option("--slice", slice, "show a slice: height=METRES, a floor plan that high above the floor (the "
+                                   "surface above it is cut away), e.g. height=1.0; or x|y|z:VALUE across a world "
+                                   "axis, metres, e.g. z:1.5");
   app.add_option("--slice-grid", slice_grid, "grid the slice shows")
       ->check(CLI::IsMember({"tsdf", "weight"}))
       ->capture_default_str();
@@ -103,6 +111,7 @@ int main(int argc, char** argv) {
     if (!slice.empty()) o.slice = parseSliceSpec(slice);
     o.slice.grid = slice_grid == "weight" ? SliceGrid::kWeight : SliceGrid::kTsdf;
     o.show_trajectory = !no_trajectory;
+    o.show_surface = !no_surface;
     return runViewer(o, force);
   } catch (const CLI::ParseError& e) {
     return vf::app::reportParseError(app, e, "vdbfuse-view");

@@ -15,6 +15,7 @@
 #include "io/trajectory_io.h"
 #include "vdb/mesh_ops.h"
 #include "vdb/mesher.h"
+#include "vdb/scene_frame.h"
 #include "vdb/vertex_color.h"
 #include "viewer/view_style.h"
 #include "viewer/view_options.h"
@@ -120,6 +121,30 @@ void loadTrajectory(SceneContent& c, const std::string& path, bool load) {
   }
 }
 
+// Up and forward as recorded; for a scene written before they were, estimated from the
+// trajectory and a quarter of the surface's vertices (the same estimate exports make).
+void computeLevelFrame(SceneContent& c) {
+  std::vector<const TriangleMesh*> surface;
+  for (const ClassPart& part : c.parts) surface.push_back(&part.mesh);
+  const SceneMetadata& m = c.scene.meta;
+  if (norm(m.up_world) > 0 && norm(m.forward_world) > 0) {
+    c.frame = levelFrame(m.up_world, m.forward_world, surface);
+    c.frame.up_source = m.up_source;
+    return;
+  }
+  TriangleMesh samples;
+  for (const TriangleMesh* mesh : surface)
+    if (mesh->hasNormals())
+      for (size_t i = 0; i < mesh->positions.size(); i += 4) {
+        samples.positions.push_back(mesh->positions[i]);
+        samples.normals.push_back(mesh->normals[i]);
+      }
+  const SceneUp up = estimateSceneUp(c.trajectory, samples);
+  c.frame = levelFrame(up.up, up.forward, surface);
+  c.frame.up_source = up.source + " (estimated: the scene does not record up)";
+  c.notices.push_back("up: the scene does not record it; estimated from the " + up.source + " (" + up.detail + ")");
+}
+
 }  // namespace
 
 Rgb8 visibleOnBackdrop(Rgb8 c) {
@@ -156,6 +181,7 @@ SceneContent loadSceneContent(const std::string& scene_path, const std::string& 
   computeSurfaceBounds(c);
   c.split_s = secondsSince(t0);
   loadTrajectory(c, trajectory_path, load_trajectory);
+  computeLevelFrame(c);
   return c;
 }
 

@@ -10,6 +10,7 @@
 #include "core/pose.h"
 #include "vdb/scene.h"
 #include "vdb/scene_info.h"
+#include "viewer/level_frame.h"
 
 namespace vf::viewer {
 
@@ -38,6 +39,9 @@ struct SceneContent {
   std::vector<ClassPart> parts;  // one per row (same order), or a single part without classes
   size_t triangles = 0;
   Vec3f surface_min_m{0, 0, 0}, surface_max_m{0, 0, 0};  // bounds of the surface's vertices
+  // Up, heading and floor: the presets' and floor plans' frame. Up and forward as the scene
+  // records them; estimated (as exports do, vdb/scene_frame.h) for a scene that does not.
+  LevelFrame frame;
 
   Trajectory trajectory;        // empty when none was found or asked for
   std::string trajectory_path;  // where it was read from

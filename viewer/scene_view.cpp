@@ -16,6 +16,7 @@
 #include <vtkTextProperty.h>
 #include <vtkUnsignedCharArray.h>
 #include <vtkWindowToImageFilter.h>
+#include <vtkPlane.h>
 #include <vtkPointData.h>
 
 #include <algorithm>
@@ -49,40 +50,52 @@ const char* kHelp =
     "c        color: fused RGB  <->  class colors\n"
     "1 .. 9   show / hide that class (or click it in the panel)\n"
     "0        show all classes\n"
-    "f  t  v  camera: front (as the first frame) / top / side\n"
+    "f  t  v  camera: front (as the first frame, level) / top / side\n"
     "n        camera: next trajectory frustum\n"
-    "p        trajectory on / off\n"
-    "x y z    slice across x / y / z  (same key again: hide)\n"
+    "p  k     trajectory path / camera frusta on / off\n"
+    "m        surface on / off      b: back faces on / off\n"
+    "l        floor plan: level slice 1 m above the floor  (again: hide)\n"
+    "x y z    slice across world x / y / z  (same key again: hide)\n"
     "[  ]     move the slice one voxel   ({  }: ten voxels)\n"
     "g        slice grid: tsdf  <->  weight\n"
     "s        save a screenshot PNG next to the scene\n"
     "e        export the visible classes to <scene>_visible.ply\n"
     "q  Esc   quit";
 
-// Places the camera looking along `dir` (with `up` up) at the box's centre, just far enough that
-// every corner of the box is inside the view: tighter than VTK's ResetCamera, which fits the
+// Places the camera looking along `dir` (with `up` up) at the centre of `corners`, just far
+// enough that every corner is inside the view: tighter than VTK's ResetCamera, which fits the
 // bounding sphere and leaves a flat scene small in the middle.
-void fitView(vtkCamera* cam, const double dir[3], const double up[3], const double bounds[6], double fov_y_deg,
+void fitView(vtkCamera* cam, const Vec3f& dir, const Vec3f& up, const std::vector<Vec3f>& corners, double fov_y_deg,
              double aspect) {
-  const double c[3] = {0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]), 0.5 * (bounds[4] + bounds[5])};
-  const double right[3] = {dir[1] * up[2] - dir[2] * up[1], dir[2] * up[0] - dir[0] * up[2],
-                           dir[0] * up[1] - dir[1] * up[0]};
+  Vec3f c{0, 0, 0};
+  for (const Vec3f& p : corners) c = c + p * (1.f / float(corners.size()));
+  const Vec3f right = cross(dir, up);
   const double tan_y = std::tan(0.5 * fov_y_deg * M_PI / 180.0), tan_x = tan_y * aspect;
   double distance = 0;
-  for (int corner = 0; corner < 8; ++corner) {
-    const double p[3] = {bounds[corner & 1] - c[0], bounds[2 + ((corner >> 1) & 1)] - c[1],
-                         bounds[4 + ((corner >> 2) & 1)] - c[2]};
-    const double x = p[0] * right[0] + p[1] * right[1] + p[2] * right[2];
-    const double y = p[0] * up[0] + p[1] * up[1] + p[2] * up[2];
-    const double z = p[0] * dir[0] + p[1] * dir[1] + p[2] * dir[2];
+  for (const Vec3f& corner : corners) {
+    const Vec3f p = corner - c;
+    const double x = dot(p, right), y = dot(p, up), z = dot(p, dir);
     // The corner at depth (distance + z) in front of the eye must satisfy |x| <= depth tan_x.
     distance = std::max(distance, std::max(std::abs(x) / tan_x, std::abs(y) / tan_y) - z);
   }
   distance = std::max(distance * 1.05, 1e-3);  // a small margin around the surface
-  cam->SetFocalPoint(c[0], c[1], c[2]);
-  cam->SetPosition(c[0] - distance * dir[0], c[1] - distance * dir[1], c[2] - distance * dir[2]);
-  cam->SetViewUp(up[0], up[1], up[2]);
+  cam->SetFocalPoint(c.x, c.y, c.z);
+  cam->SetPosition(c.x - distance * dir.x, c.y - distance * dir.y, c.z - distance * dir.z);
+  cam->SetViewUp(up.x, up.y, up.z);
   cam->SetViewAngle(fov_y_deg);
+}
+
+// The 8 corners of a box given in level-frame coordinates, in world coordinates.
+std::vector<Vec3f> frameBoxCorners(const LevelFrame& f, Vec3f lo, Vec3f hi) {
+  std::vector<Vec3f> corners;
+  for (int k = 0; k < 8; ++k) corners.push_back(f.toWorld({k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z}));
+  return corners;
+}
+
+std::string vectorText(const double v[3]) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "[%.4f %.4f %.4f]", v[0], v[1], v[2]);
+  return buf;
 }
 
 void styleText(vtkTextActor* t, int font_px) {
@@ -109,12 +122,15 @@ struct SceneView::Impl {
   std::vector<bool> shown;  // per class row
   bool color_by_class = false;
   ClassPanel panel;
-  vtkSmartPointer<vtkActor> trajectory_actor;
-  bool trajectory_shown = false;
+  vtkSmartPointer<vtkActor> trajectory_actor, frusta_actor;
+  bool trajectory_shown = false, frusta_shown = false;
+  bool surface_shown = true, backfaces_shown = false;
+  vtkNew<vtkPlane> cut_plane;  // a floor plan cuts the surface above it away
   std::vector<size_t> frustum_poses;  // poses with a frustum: what 'n' steps through
   int camera_frame = -1;
   SliceActor slice_actor;
   SliceSpec slice;
+  SliceImage slice_image;  // the slice shown (when slice.enabled)
   int slice_index = 0;
   bool slice_placed = false;  // slice_index holds a position the user has seen
   vtkNew<vtkTextActor> help_text, info_text, notice_text, hint_text;
@@ -132,6 +148,8 @@ struct SceneView::Impl {
   void buildOverlays();
   void applyColors();
   void applyVisibility();
+  void applyTrajectoryVisibility();
+  void applyCut();
   void setCamera(const CameraSpec& spec);
   void showSlice();
   void updateInfo();
@@ -142,6 +160,7 @@ struct SceneView::Impl {
   bool onClick(int x, int y);
   void toggleRow(int row);
   void setSliceAxis(int axis);
+  void toggleLevelSlice();
   void moveSlice(int voxels);
   void exportVisible();
   void screenshotKey();
@@ -188,13 +207,18 @@ void SceneView::Impl::build() {
   }
   if (options.slice.enabled) {
     slice = options.slice;
-    slice_index = sliceIndexAt(content.scene, content.summary, slice.axis, slice.value_m);
+    if (slice.level)
+      requireLevelInRange(content.summary, content.frame, slice.value_m);
+    else
+      slice_index = sliceIndexAt(content.scene, content.summary, slice.axis, slice.value_m);
     showSlice();
   }
+  surface_shown = options.show_surface;
   applyColors();
   applyVisibility();
   CameraSpec camera = options.camera;
-  if (!options.camera_given && slice.enabled) camera.preset = cameraFacingAxis(slice.axis);
+  if (!options.camera_given && slice.enabled)
+    camera.preset = cameraFacingSlice(slice, content.frame.up, content.frame.forward);
   setCamera(camera);
   updateInfo();
   build_s = secondsSince(t0);
@@ -214,11 +238,16 @@ void SceneView::Impl::buildSurface() {
     p->SetDiffuse(0.85);
     p->SetSpecular(0.08);
     p->SetSpecularPower(20);
+    // The surface's faces point into the space the cameras saw (the room); seen from outside, a
+    // wall's back face is culled, so that a view from beyond a wall looks into the room.
+    p->BackfaceCullingOn();
+    mapper->AddClippingPlane(cut_plane);
     renderer->AddActor(actor);
     part_mappers.push_back(mapper);
     part_actors.push_back(actor);
   }
   shown.assign(content.rows.size(), true);
+  applyCut();
 }
 
 void SceneView::Impl::buildTrajectory() {
@@ -226,11 +255,37 @@ void SceneView::Impl::buildTrajectory() {
   const Vec3f d = content.surface_max_m - content.surface_min_m;
   const double depth_m = std::max(0.02, 0.035 * double(norm(d)));  // small next to the scene
   frustum_poses = frustumPoses(content.trajectory, options.frustum_every, 1.5 * depth_m);
-  trajectory_actor =
-      makeTrajectoryActor(content.trajectory, frustum_poses, depth_m, frameCamera(content.scene.meta.depth_intrinsics));
+  const FrameCamera camera = frameCamera(content.scene.meta.depth_intrinsics);
+  trajectory_actor = makeTrajectoryActor(content.trajectory, true, {}, depth_m, camera);
+  frusta_actor = makeTrajectoryActor(content.trajectory, false, frustum_poses, depth_m, camera);
   renderer->AddActor(trajectory_actor);
+  renderer->AddActor(frusta_actor);
   trajectory_shown = options.show_trajectory;
-  trajectory_actor->SetVisibility(trajectory_shown);
+  frusta_shown = options.show_trajectory && (options.show_frusta || options.frustum_every > 0);
+  applyTrajectoryVisibility();
+}
+
+// Path and frusta, unless the camera is a recorded one (whose own frustum would frame the picture).
+void SceneView::Impl::applyTrajectoryVisibility() {
+  if (!trajectory_actor) return;
+  trajectory_actor->SetVisibility(trajectory_shown && camera_frame < 0);
+  frusta_actor->SetVisibility(frusta_shown && camera_frame < 0);
+}
+
+// A floor plan cuts the surface above its plane away, so that the top view sees the plan and
+// the walls' lower parts; any other slice (or none) leaves the surface whole.
+void SceneView::Impl::applyCut() {
+  const LevelFrame& f = content.frame;
+  if (slice.enabled && slice.level) {
+    const Vec3f at = f.up * float(f.floor_m + slice.value_m);
+    cut_plane->SetOrigin(at.x, at.y, at.z);
+    cut_plane->SetNormal(-f.up.x, -f.up.y, -f.up.z);  // VTK keeps the side the normal points to
+  } else {
+    // Far above everything: nothing is cut.
+    const Vec3f at = f.up * (f.max.z + 1e3f);
+    cut_plane->SetOrigin(at.x, at.y, at.z);
+    cut_plane->SetNormal(-f.up.x, -f.up.y, -f.up.z);
+  }
 }
 
 void SceneView::Impl::buildOverlays() {
@@ -292,21 +347,24 @@ void SceneView::Impl::applyColors() {
 }
 
 void SceneView::Impl::applyVisibility() {
-  if (!content.rows.empty())
-    for (size_t i = 0; i < part_actors.size(); ++i) part_actors[i]->SetVisibility(shown[i]);
+  for (size_t i = 0; i < part_actors.size(); ++i) {
+    part_actors[i]->SetVisibility(surface_shown && (content.rows.empty() || shown[i]));
+    part_actors[i]->GetProperty()->SetBackfaceCulling(!backfaces_shown);
+  }
   panel.setShown(shown);
 }
 
 void SceneView::Impl::setCamera(const CameraSpec& spec) {
   vtkCamera* cam = renderer->GetActiveCamera();
-  const Vec3f lo = content.surface_min_m, hi = content.surface_max_m;
-  double bounds[6] = {lo.x, hi.x, lo.y, hi.y, lo.z, hi.z};
+  const LevelFrame& frame = content.frame;
+  Vec3f lo = frame.min, hi = frame.max;  // the surface's box in the level frame
   if (trajectory_actor && trajectory_shown) {  // the cameras belong in the picture too
-    for (const StampedPose& p : content.trajectory)
-      for (int a = 0; a < 3; ++a) {
-        bounds[2 * a] = std::min(bounds[2 * a], p.T_world_cam.translation()[a]);
-        bounds[2 * a + 1] = std::max(bounds[2 * a + 1], p.T_world_cam.translation()[a]);
-      }
+    for (const StampedPose& p : content.trajectory) {
+      const Eigen::Vector3d t = p.T_world_cam.translation();
+      const Vec3f q = frame.toFrame({float(t.x()), float(t.y()), float(t.z())});
+      lo = {std::min(lo.x, q.x), std::min(lo.y, q.y), std::min(lo.z, q.z)};
+      hi = {std::max(hi.x, q.x), std::max(hi.y, q.y), std::max(hi.z, q.z)};
+    }
   }
   if (spec.preset == CameraPreset::kTrajectory) {
     const Trajectory& traj = content.trajectory;
@@ -325,39 +383,44 @@ void SceneView::Impl::setCamera(const CameraSpec& spec) {
     cam->SetViewUp(up.x(), up.y(), up.z());
     // The recorded camera's field of view, fitted into the window: its vertical angle when the
     // window is wider than the image, else its horizontal one.
-    const FrameCamera frame = frameCamera(content.scene.meta.depth_intrinsics);
+    const FrameCamera recorded = frameCamera(content.scene.meta.depth_intrinsics);
     const int* size = window->GetSize();
     const double window_aspect = size[1] > 0 ? double(size[0]) / size[1] : 1.0;
-    const double tan_y = std::tan(0.5 * frame.fov_y_deg * M_PI / 180.0);
-    cam->SetUseHorizontalViewAngle(window_aspect < frame.aspect);
-    cam->SetViewAngle(window_aspect < frame.aspect ? 2.0 * std::atan(tan_y * frame.aspect) * 180.0 / M_PI
-                                                   : frame.fov_y_deg);
-    camera_frame = spec.frame;
+    const double tan_y = std::tan(0.5 * recorded.fov_y_deg * M_PI / 180.0);
+    cam->SetUseHorizontalViewAngle(window_aspect < recorded.aspect);
+    cam->SetViewAngle(window_aspect < recorded.aspect ? 2.0 * std::atan(tan_y * recorded.aspect) * 180.0 / M_PI
+                                                      : recorded.fov_y_deg);
     // Seen from a recorded camera the frustums would frame the picture itself: hide the path
     // until the camera leaves the trajectory.
-    if (trajectory_actor) trajectory_actor->SetVisibility(false);
+    camera_frame = spec.frame;
   } else {
-    // Axis views (view_options.h): the direction of projection and the picture's up.
-    const double dirs[3][3] = {{0, 0, 1}, {0, 1, 0}, {1, 0, 0}};  // front, top, side
-    const double ups[3][3] = {{0, -1, 0}, {0, 0, 1}, {0, -1, 0}};
-    const int k = spec.preset == CameraPreset::kFront ? 0 : spec.preset == CameraPreset::kTop ? 1 : 2;
+    // Presets in the scene's level frame (level_frame.h): front level along the first camera's
+    // heading, side turned about up, top down along -up.
+    const PresetView view = presetView(frame, spec.preset);
     const int* size = window->GetSize();
     const double aspect = size[1] > 0 ? double(size[0]) / size[1] : 1.0;
     cam->SetUseHorizontalViewAngle(false);
-    fitView(cam, dirs[k], ups[k], bounds, 30.0, aspect);
+    fitView(cam, view.direction, view.view_up, frameBoxCorners(frame, lo, hi), 30.0, aspect);
     camera_frame = -1;
-    if (trajectory_actor) trajectory_actor->SetVisibility(trajectory_shown);
   }
+  applyTrajectoryVisibility();
   renderer->ResetCameraClippingRange();
 }
 
 void SceneView::Impl::showSlice() {
-  const SliceImage image = sampleSlice(content.scene, content.summary, slice.grid, slice.axis, slice_index);
-  slice_index = image.index;
-  slice.value_m = image.value_m;
+  if (slice.level) {
+    const LevelRange r = levelSliceRange(content.summary, content.frame);
+    slice.value_m = std::clamp(slice.value_m, r.lowest_m, r.highest_m);
+    slice_image = sampleLevelSlice(content.scene, content.summary, content.frame, slice.grid, slice.value_m);
+  } else {
+    slice_image = sampleSlice(content.scene, content.summary, slice.grid, slice.axis, slice_index);
+    slice_index = slice_image.index;
+    slice.value_m = slice_image.value_m;
+    slice_placed = true;
+  }
   slice.enabled = true;
-  slice_placed = true;
-  slice_actor.show(image);
+  slice_actor.show(slice_image);
+  applyCut();
 }
 
 void SceneView::Impl::updateInfo() {
@@ -366,7 +429,11 @@ void SceneView::Impl::updateInfo() {
                 std::filesystem::path(content.scene_path).filename().string().c_str(),
                 withThousands(content.triangles).c_str(), color_by_class ? "class" : "rgb");
   std::string info = buf;
-  if (slice.enabled) {
+  if (slice.enabled && slice.level) {
+    std::snprintf(buf, sizeof buf, "    floor plan %.2f m above the floor (%s)", slice.value_m,
+                  slice.grid == SliceGrid::kTsdf ? "tsdf" : "weight");
+    info += buf;
+  } else if (slice.enabled) {
     std::snprintf(buf, sizeof buf, "    slice %s = %.3f m (%s)", axisName(slice.axis), slice.value_m,
                   slice.grid == SliceGrid::kTsdf ? "tsdf" : "weight");
     info += buf;
@@ -415,12 +482,25 @@ void SceneView::Impl::toggleRow(int row) {
   say(content.rows[size_t(row)].name + (shown[size_t(row)] ? " shown" : " hidden"));
 }
 
+void SceneView::Impl::toggleLevelSlice() {
+  if (slice.enabled && slice.level) {  // again: hide
+    slice.enabled = false;
+    slice_actor.setVisible(false);
+    applyCut();
+    return;
+  }
+  slice.level = true;
+  slice.value_m = 1.0f;  // a floor plan at table height: walls, doors and furniture legs
+  showSlice();
+}
+
 void SceneView::Impl::setSliceAxis(int axis) {
-  if (slice.enabled && slice.axis == axis) {  // same key again: hide
+  if (slice.enabled && !slice.level && slice.axis == axis) {  // same key again: hide
     slice.enabled = false;
     slice_actor.setVisible(false);
     return;
   }
+  slice.level = false;
   if (!slice_placed || slice.axis != axis) {  // a new axis starts in the middle of the scene
     const SliceRange r = sliceRange(content.scene, content.summary, axis);
     slice_index = (r.first + r.last) / 2;
@@ -430,7 +510,10 @@ void SceneView::Impl::setSliceAxis(int axis) {
 }
 
 void SceneView::Impl::moveSlice(int voxels) {
-  slice_index += voxels;
+  if (slice.level)
+    slice.value_m += float(voxels) * content.scene.meta.voxel_size_m;
+  else
+    slice_index += voxels;
   showSlice();
 }
 
@@ -522,17 +605,26 @@ void SceneView::Impl::onKey(char key, const std::string& keysym) {
                                    : std::upper_bound(frustum_poses.begin(), frustum_poses.end(), size_t(camera_frame));
       setCamera({CameraPreset::kTrajectory, int(next == frustum_poses.end() ? frustum_poses.front() : *next)});
     }
-  } else if (key == 'p') {
+  } else if (key == 'p' || key == 'k') {
     if (!trajectory_actor) {
       say("no trajectory loaded (--trajectory FILE)");
     } else {
-      trajectory_shown = !trajectory_shown;
-      trajectory_actor->SetVisibility(trajectory_shown && camera_frame < 0);
+      bool& flag = key == 'p' ? trajectory_shown : frusta_shown;
+      flag = !flag;
+      applyTrajectoryVisibility();
     }
+  } else if (key == 'm') {
+    surface_shown = !surface_shown;
+    applyVisibility();
+  } else if (key == 'b') {
+    backfaces_shown = !backfaces_shown;
+    applyVisibility();
+  } else if (key == 'l') {
+    toggleLevelSlice();
   } else if (key == 'x' || key == 'y' || key == 'z') {
     setSliceAxis(key - 'x');
   } else if (key == '[' || key == ']' || key == '{' || key == '}') {
-    if (!slice_placed) {
+    if (!slice.level && !slice_placed) {
       const SliceRange r = sliceRange(content.scene, content.summary, slice.axis);
       slice_index = (r.first + r.last) / 2;
     }
@@ -592,6 +684,26 @@ void SceneView::run() {
   impl->render();
   interactor->Start();
   impl->interactor = nullptr;
+}
+
+std::string SceneView::cameraReport() const {
+  vtkCamera* cam = impl_->renderer->GetActiveCamera();
+  double dir[3], up[3];
+  cam->GetDirectionOfProjection(dir);
+  cam->OrthogonalizeViewUp();
+  cam->GetViewUp(up);
+  const LevelFrame& f = impl_->content.frame;
+  const double scene_up[3] = {f.up.x, f.up.y, f.up.z};
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "; floor at %.3f m along up", f.floor_m);
+  std::string text = "camera direction " + vectorText(dir) + ", view-up " + vectorText(up) + "; scene up " +
+                     vectorText(scene_up) + " (" + (f.up_source.empty() ? "?" : f.up_source) + ")" + buf;
+  if (impl_->slice.enabled) {
+    const Vec3f n = impl_->slice_image.normal;
+    const double normal[3] = {n.x, n.y, n.z};
+    text += "\nslice normal " + vectorText(normal);
+  }
+  return text;
 }
 
 double SceneView::buildSeconds() const { return impl_->build_s; }

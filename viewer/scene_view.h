@@ -28,6 +28,10 @@ class SceneView {
   // Seconds spent building actors and rendering the first frame (after saveScreenshot / run).
   double buildSeconds() const;
   double firstRenderSeconds() const;
+  // The camera as VTK holds it (direction of projection, orthogonalised view-up, world
+  // coordinates), the scene's up and floor, and the slice's plane normal when one is shown:
+  // one or two lines, printed with --screenshot (tests measure the view's level from them).
+  std::string cameraReport() const;
   // Things the user should know (class coloring unavailable, ...), in order.
   const std::vector<std::string>& notices() const;
 

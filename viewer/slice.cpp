@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <vector>
 
 #include "core/error.h"
 
@@ -39,7 +40,87 @@ void indexBounds(const Scene& scene, const SceneSummary& summary, Vec3i& lo, Vec
   }
 }
 
+// The corners of the observed voxels' box.
+std::vector<Vec3f> boundsCorners(const SceneSummary& summary) {
+  std::vector<Vec3f> corners;
+  const Vec3f lo = summary.bounds_min_m, hi = summary.bounds_max_m;
+  for (int c = 0; c < 8; ++c) corners.push_back({c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z});
+  return corners;
+}
+
+// The color bar's range (tsdf: -truncation..+truncation; weight: 0..the largest weight) and
+// the count of observed samples.
+void finishSlice(SliceImage& s, const Scene& scene) {
+  float max_weight = 0;
+  for (float x : s.values)
+    if (std::isfinite(x)) {
+      ++s.observed;
+      max_weight = std::max(max_weight, x);
+    }
+  if (s.grid == SliceGrid::kTsdf) {
+    s.range_min = -scene.meta.truncation_m;
+    s.range_max = scene.meta.truncation_m;
+  } else {
+    s.range_min = 0;
+    s.range_max = max_weight > 0 ? max_weight : 1;
+  }
+}
+
 }  // namespace
+
+LevelRange levelSliceRange(const SceneSummary& summary, const LevelFrame& frame) {
+  LevelRange r{std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity()};
+  for (const Vec3f& c : boundsCorners(summary)) {
+    const float h = dot(c, frame.up) - float(frame.floor_m);
+    r.lowest_m = std::min(r.lowest_m, h);
+    r.highest_m = std::max(r.highest_m, h);
+  }
+  return r;
+}
+
+void requireLevelInRange(const SceneSummary& summary, const LevelFrame& frame, float height_m) {
+  const LevelRange r = levelSliceRange(summary, frame);
+  if (height_m >= r.lowest_m && height_m <= r.highest_m) return;
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "--slice height=%g lies outside the observed scene (heights %.2f to %.2f m above "
+                "the floor)", height_m, r.lowest_m, r.highest_m);
+  throw Error(buf);
+}
+
+SliceImage sampleLevelSlice(const Scene& scene, const SceneSummary& summary, const LevelFrame& frame, SliceGrid grid,
+                            float height_m) {
+  const IndexFrame f = indexFrame(scene);
+  const float inf = std::numeric_limits<float>::infinity();
+  float u0 = inf, u1 = -inf, v0 = inf, v1 = -inf;
+  for (const Vec3f& c : boundsCorners(summary)) {
+    u0 = std::min(u0, dot(c, frame.right)), u1 = std::max(u1, dot(c, frame.right));
+    v0 = std::min(v0, dot(c, frame.forward)), v1 = std::max(v1, dot(c, frame.forward));
+  }
+  SliceImage s;
+  s.level = true;
+  s.grid = grid;
+  s.value_m = height_m;
+  s.index = int(std::lround(height_m / f.voxel_m));
+  s.spacing_m = f.voxel_m;
+  s.u_dir = frame.right;
+  s.v_dir = frame.forward;
+  s.normal = frame.up;
+  s.width = std::max(1, int(std::ceil((u1 - u0) / f.voxel_m)) + 1);
+  s.height = std::max(1, int(std::ceil((v1 - v0) / f.voxel_m)) + 1);
+  s.origin_m = frame.toWorld({u0, v0, float(frame.floor_m) + height_m});
+  s.values.assign(size_t(s.width) * size_t(s.height), std::numeric_limits<float>::quiet_NaN());
+  tbb::parallel_for(0, s.height, [&](int v) {
+    for (int u = 0; u < s.width; ++u) {
+      const Vec3f p = s.origin_m + s.u_dir * (float(u) * f.voxel_m) + s.v_dir * (float(v) * f.voxel_m);
+      const Vec3i ijk{f.toIndex(p.x, 0), f.toIndex(p.y, 1), f.toIndex(p.z, 2)};
+      const SceneVoxel voxel = sceneVoxel(scene, ijk);
+      if (!voxel.active || voxel.weight <= 0) continue;  // unobserved: transparent
+      s.values[size_t(v) * s.width + u] = grid == SliceGrid::kTsdf ? voxel.tsdf_m : voxel.weight;
+    }
+  });
+  finishSlice(s, scene);
+  return s;
+}
 
 SliceRange sliceRange(const Scene& scene, const SceneSummary& summary, int axis) {
   Vec3i lo{0, 0, 0}, hi{0, 0, 0};
@@ -81,6 +162,10 @@ SliceImage sampleSlice(const Scene& scene, const SceneSummary& summary, SliceGri
   Vec3i first = lo;
   setComponent(first, axis, s.index);
   s.origin_m = {f.toWorld(first.x, 0), f.toWorld(first.y, 1), f.toWorld(first.z, 2)};
+  const Vec3f unit[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  s.u_dir = unit[u_axis];
+  s.v_dir = unit[v_axis];
+  s.normal = cross(s.u_dir, s.v_dir);  // +-the axis: a rotation places the image (slice_actor.cpp)
   s.values.assign(size_t(s.width) * size_t(s.height), std::numeric_limits<float>::quiet_NaN());
   // Tree reads are thread-safe; rows in parallel keep a 512^2 plane interactive.
   tbb::parallel_for(0, s.height, [&](int v) {
@@ -93,19 +178,7 @@ SliceImage sampleSlice(const Scene& scene, const SceneSummary& summary, SliceGri
       s.values[size_t(v) * s.width + u] = grid == SliceGrid::kTsdf ? voxel.tsdf_m : voxel.weight;
     }
   });
-  float max_weight = 0;
-  for (float x : s.values)
-    if (std::isfinite(x)) {
-      ++s.observed;
-      max_weight = std::max(max_weight, x);
-    }
-  if (grid == SliceGrid::kTsdf) {
-    s.range_min = -scene.meta.truncation_m;
-    s.range_max = scene.meta.truncation_m;
-  } else {
-    s.range_min = 0;
-    s.range_max = max_weight > 0 ? max_weight : 1;
-  }
+  finishSlice(s, scene);
   return s;
 }
 

@@ -4,6 +4,7 @@
 #include <vtkFloatArray.h>
 #include <vtkImageMapper3D.h>
 #include <vtkImageProperty.h>
+#include <vtkMatrix4x4.h>
 #include <vtkPointData.h>
 #include <vtkTextProperty.h>
 
@@ -72,13 +73,19 @@ void SliceActor::buildLookupTable(const SliceImage& slice) {
 }
 
 void SliceActor::show(const SliceImage& slice) {
-  int dims[3] = {1, 1, 1};
-  const int u_axis = slice.axis == 0 ? 1 : 0, v_axis = slice.axis == 2 ? 1 : 2;
-  dims[u_axis] = slice.width;
-  dims[v_axis] = slice.height;
-  image_->SetDimensions(dims);
-  image_->SetOrigin(slice.origin_m.x, slice.origin_m.y, slice.origin_m.z);
+  // The image lies in its own x-y plane from (0, 0, 0); the actor's matrix turns it onto the
+  // slice's plane: columns u, v, normal and the origin (axis slices and floor plans alike).
+  image_->SetDimensions(slice.width, slice.height, 1);
+  image_->SetOrigin(0, 0, 0);
   image_->SetSpacing(slice.spacing_m, slice.spacing_m, slice.spacing_m);
+  vtkNew<vtkMatrix4x4> place;
+  const Vec3f columns[4] = {slice.u_dir, slice.v_dir, slice.normal, slice.origin_m};
+  for (int c = 0; c < 4; ++c) {
+    place->SetElement(0, c, columns[c].x);
+    place->SetElement(1, c, columns[c].y);
+    place->SetElement(2, c, columns[c].z);
+  }
+  actor_->SetUserMatrix(place);
   vtkNew<vtkFloatArray> values;
   values->SetNumberOfTuples(vtkIdType(slice.values.size()));
   const float scale = sliceDisplayScale(slice.grid);

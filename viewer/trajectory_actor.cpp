@@ -38,12 +38,13 @@ void addFrustum(vtkPoints* points, vtkCellArray* lines, const Pose& T_world_cam,
 
 }  // namespace
 
-vtkSmartPointer<vtkActor> makeTrajectoryActor(const Trajectory& trajectory, const std::vector<size_t>& frustum_poses,
-                                              double depth_m, const FrameCamera& camera) {
+vtkSmartPointer<vtkActor> makeTrajectoryActor(const Trajectory& trajectory, bool with_path,
+                                              const std::vector<size_t>& frustum_poses, double depth_m,
+                                              const FrameCamera& camera) {
   auto points = vtkSmartPointer<vtkPoints>::New();
   auto lines = vtkSmartPointer<vtkCellArray>::New();
   const vtkIdType n = vtkIdType(trajectory.size());
-  if (n >= 2) {  // the path
+  if (with_path && n >= 2) {
     lines->InsertNextCell(n);
     for (const StampedPose& p : trajectory) lines->InsertCellPoint(addPoint(points, p.T_world_cam.translation()));
   }

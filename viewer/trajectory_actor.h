@@ -12,9 +12,11 @@ namespace vf::viewer {
 
 #include <vector>
 
-// The path through all poses, a frustum of depth_m and the camera's field of view at each of
-// `frustum_poses` (frustumPoses()).
-vtkSmartPointer<vtkActor> makeTrajectoryActor(const Trajectory& trajectory, const std::vector<size_t>& frustum_poses,
-                                              double depth_m, const FrameCamera& camera);
+// The path through all poses (with_path), and a frustum of depth_m and the camera's field of
+// view at each of `frustum_poses` (frustumPoses()). The viewer makes one actor of each, so that
+// the frusta can be hidden alone.
+vtkSmartPointer<vtkActor> makeTrajectoryActor(const Trajectory& trajectory, bool with_path,
+                                              const std::vector<size_t>& frustum_poses, double depth_m,
+                                              const FrameCamera& camera);
 
 }  // namespace vf::viewer

@@ -1,6 +1,7 @@
 #include "viewer/view_options.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 #include "core/error.h"
@@ -38,9 +39,17 @@ CameraSpec parseCameraSpec(const std::string& text) {
 
 SliceSpec parseSliceSpec(const std::string& text) {
   SliceSpec spec;
+  for (const char* prefix : {"height=", "height:"})
+    if (text.rfind(prefix, 0) == 0) {
+      if (!parseFiniteFloat(text.substr(7), spec.value_m))
+        throw Error("--slice '" + text + "': expected height=METRES above the floor (e.g. height=1.0)");
+      spec.enabled = spec.level = true;
+      return spec;
+    }
   const bool axis_ok = text.size() >= 3 && text[1] == ':' && (text[0] == 'x' || text[0] == 'y' || text[0] == 'z');
   if (!axis_ok || !parseFiniteFloat(text.substr(2), spec.value_m))
-    throw Error("--slice '" + text + "': expected AXIS:VALUE with AXIS x, y or z and VALUE in metres (e.g. z:1.5)");
+    throw Error("--slice '" + text + "': expected height=METRES (a floor plan that high above the floor, e.g. "
+                "height=1.0) or AXIS:VALUE with AXIS x, y or z and VALUE in metres along that world axis (e.g. z:1.5)");
   spec.enabled = true;
   spec.axis = text[0] - 'x';
   return spec;
@@ -79,8 +88,13 @@ FrameCamera frameCamera(const Intrinsics& k) {
   return {2.0 * std::atan(half_h) * 180.0 / M_PI, half_w / half_h};
 }
 
-CameraPreset cameraFacingAxis(int axis) {
-  return axis == 0 ? CameraPreset::kSide : axis == 1 ? CameraPreset::kTop : CameraPreset::kFront;
+CameraPreset cameraFacingSlice(const SliceSpec& slice, Vec3f up, Vec3f forward) {
+  if (slice.level) return CameraPreset::kTop;
+  const Vec3f right = cross(forward, up);
+  const auto along = [&](Vec3f d) { return std::fabs(slice.axis == 0 ? d.x : slice.axis == 1 ? d.y : d.z); };
+  const float front = along(forward), side = along(right), top = along(up);
+  if (top >= front && top >= side) return CameraPreset::kTop;
+  return side > front ? CameraPreset::kSide : CameraPreset::kFront;
 }
 
 }  // namespace vf::viewer

@@ -5,12 +5,14 @@
 #include <vector>
 
 #include "core/intrinsics.h"
+#include "core/math.h"
 
 namespace vf::viewer {
 
-// The world frame is the first camera's (x right, y down, z forward). front: looking along +z
-// with -y up, as the first camera; top: looking down +y onto the floor with +z (into the
-// scene) up; side: looking along +x with -y up; trajectory: exactly pose N's camera.
+// Presets in the scene's level frame (viewer/level_frame.h: up against gravity, forward the
+// first camera's heading): front looks the way the first camera did, level; side is turned 90
+// degrees about up; top looks down along -up with forward at the top; trajectory: exactly
+// pose N's camera.
 enum class CameraPreset { kFront, kTop, kSide, kTrajectory };
 struct CameraSpec {
   CameraPreset preset = CameraPreset::kFront;
@@ -20,6 +22,9 @@ struct CameraSpec {
 enum class SliceGrid { kTsdf, kWeight };
 struct SliceSpec {
   bool enabled = false;
+  // A floor plan: the horizontal plane value_m metres above the floor (level_frame.h). Else a
+  // plane across a world axis at world coordinate value_m.
+  bool level = false;
   int axis = 2;  // 0 = x, 1 = y, 2 = z (world axes, metres)
   float value_m = 0;
   SliceGrid grid = SliceGrid::kTsdf;
@@ -29,7 +34,9 @@ struct ViewOptions {
   std::string scene_path;
   std::string trajectory_path;  // empty: the scene's stem + ".txt", if present
   bool show_trajectory = true;
+  bool show_frusta = false;     // camera frusta along the path (off: they hid the room)
   int frustum_every = 0;        // 0: spaced by the camera's motion (frustum_poses.h)
+  bool show_surface = true;
   std::string screenshot_path;  // non-empty: render offscreen to this PNG / JPEG and exit
   int width = 1280, height = 720;
   CameraSpec camera;
@@ -42,7 +49,8 @@ struct ViewOptions {
 
 // "front", "top", "side" or "trajectory:N". Throws vf::Error naming the value.
 CameraSpec parseCameraSpec(const std::string& text);
-// "x:VALUE", "y:VALUE" or "z:VALUE" (metres, world frame). Throws vf::Error naming the value.
+// "height=VALUE" (or height:VALUE; metres above the floor: a floor plan), or "x:VALUE",
+// "y:VALUE", "z:VALUE" (metres, world frame). Throws vf::Error naming the value.
 SliceSpec parseSliceSpec(const std::string& text);
 // "WIDTHxHEIGHT", each 16..16384. Throws vf::Error naming the value.
 void parseWindowSize(const std::string& text, int& width, int& height);
@@ -67,7 +75,8 @@ struct FrameCamera {
 };
 FrameCamera frameCamera(const Intrinsics& depth_intrinsics);
 
-// The preset that looks straight at a slice across `axis` (x: side, y: top, z: front).
-CameraPreset cameraFacingAxis(int axis);
+// The preset that looks at a slice: top for a floor plan; for a world axis the preset whose
+// direction is nearest to the axis in `frame_up` / `frame_forward`'s level frame.
+CameraPreset cameraFacingSlice(const SliceSpec& slice, Vec3f frame_up, Vec3f frame_forward);
 
 }  // namespace vf::viewer

@@ -16,6 +16,7 @@
 #include "app/usage_errors.h"
 #include "core/atomic_output.h"
 #include "core/error.h"
+#include "core/output_lock.h"
 #include "io/mesh_io.h"
 #include "io/trajectory_io.h"
 #include "io/tum_writer.h"
@@ -178,7 +179,10 @@ void generate(const Options& o) {
   std::error_code ec;
   if (target.has_parent_path()) fs::create_directories(target.parent_path(), ec);
   if (ec) throw Error(target.string() + ": cannot create the folder it goes in (" + ec.message() + ")");
-  removeStaleTemporaries(target.string());  // what a killed earlier run left beside it
+  // The sweep of what a killed earlier run left beside it is allowed only under the output's
+  // lock (core/output_lock.h): without it every scan failed to start.
+  lockOutputForThisRun(target.string());
+  removeStaleTemporaries(target.string());
   const auto t0 = std::chrono::steady_clock::now();
   const TriangleMesh mesh = groundTruthMesh(source.room());
   AtomicFolder folder(target.string());

@@ -3,6 +3,7 @@
 #include "vdb/openvdb_extern_grids.h"
 
 #include <string>
+#include <vector>
 
 #include "core/math.h"
 #include "vdb/openvdb_init.h"
@@ -40,6 +41,19 @@ void writeVdbFileAtomic(const std::string& path, const openvdb::GridPtrVec& grid
 
 // The file-level metadata of a scene (voxel size, classes, source, up, camera...).
 openvdb::MetaMap sceneFileMetadata(const SceneMetadata& meta);
+
+// Every grid in one uniform, axis-scaled frame with a sane voxel (10 um .. 10 m): anything else
+// (a crafted transform, zero or non-finite scale) meshes to NaN or infinite coordinates. Throws
+// vf::Error naming `path` and the grid. Null entries of `others` are skipped.
+void checkSceneGridTransforms(const openvdb::GridBase& tsdf, const std::vector<const openvdb::GridBase*>& others,
+                              const std::string& path);
+
+// The scene's metadata from the file's metadata and the tsdf grid's transform (the voxel size,
+// which the metadata must agree with); the truncation is `fallback_truncation_m` (the tsdf's
+// background) where the file does not state it. Throws vf::Error naming `path` for a table or
+// vector that is not what vdbfuse writes.
+SceneMetadata sceneMetadataFromFile(const openvdb::MetaMap& file_meta, const openvdb::GridBase& tsdf,
+                                    float fallback_truncation_m, const std::string& path);
 
 // The scene's voxel-to-world transform: index (i,j,k) sits at (i+0.5, j+0.5, k+0.5) * voxel in the
 // fusion world frame (cell centred, as core/brick_volume.h).

@@ -6,7 +6,14 @@
 #include <cmath>
 #include <map>
 
+#include <openvdb/io/File.h>
+
+#include <filesystem>
+
+#include "core/error.h"
+#include "core/similar_names.h"
 #include "vdb/scene_grids.h"
+#include "vdb/vdb_file_check.h"
 
 namespace vf {
 namespace {
@@ -15,7 +22,81 @@ GridSummary gridSummary(const openvdb::GridBase& grid) {
   return {grid.getName(), grid.valueType(), size_t(grid.activeVoxelCount()), size_t(grid.memUsage())};
 }
 
+// A grid's statistic as written by libopenvdb (GridBase::addStatsMetadata); null when missing.
+template <class MetaT>
+typename MetaT::ConstPtr gridStatistic(const openvdb::GridBase& grid, const char* key) {
+  return grid.getMetadata<MetaT>(key);
+}
+
+template <class GridT>
+void requireType(const openvdb::GridBase::Ptr& grid, const std::string& path) {
+  if (grid && !grid->isType<GridT>())
+    throw Error(path + ": grid '" + grid->getName() + "' has type " + grid->valueType() + ", expected " +
+                openvdb::typeNameAsString<typename GridT::ValueType>());
+}
+
 }  // namespace
+
+SceneHeader readSceneHeader(const std::string& path) {
+  ensureOpenVdbInitialized();
+  if (!std::filesystem::exists(path)) throw Error(noSuchPathMessage(path, "scene file"));
+  const std::vector<std::string> names = {kTsdfGridName, kWeightGridName, kColorGridName, kClassGridName,
+                                          kClassConfidenceGridName};
+  // The headers libopenvdb reads below, checked as readScene checks the whole file.
+  checkVdbFileHeaders(path, names);
+  openvdb::MetaMap::Ptr file_meta;
+  std::vector<openvdb::GridBase::Ptr> grids;
+  try {
+    openvdb::io::File file(path);
+    file.open(/*delayLoad=*/false);
+    file_meta = file.getMetadata();
+    for (const std::string& name : names)
+      grids.push_back(file.hasGrid(name) ? file.readGridMetadata(name) : nullptr);
+    file.close();
+  } catch (const std::exception& e) {
+    throw Error(path + ": not a readable OpenVDB file (truncated or foreign?): " + e.what());
+  }
+  const openvdb::GridBase::Ptr& tsdf = grids[0];
+  if (!tsdf) throw Error(path + ": not a vdbfuse scene: it has no '" + std::string(kTsdfGridName) + "' grid");
+  if (!grids[1]) throw Error(path + ": not a vdbfuse scene: it has no '" + std::string(kWeightGridName) + "' grid");
+  requireType<openvdb::FloatGrid>(grids[0], path);
+  requireType<openvdb::FloatGrid>(grids[1], path);
+  requireType<openvdb::Vec3SGrid>(grids[2], path);
+  requireType<openvdb::Int32Grid>(grids[3], path);
+  requireType<openvdb::FloatGrid>(grids[4], path);
+  if (tsdf->getGridClass() != openvdb::GRID_LEVEL_SET) throw Error(path + ": grid 'tsdf' is not a level set");
+  checkSceneGridTransforms(*tsdf, {grids[1].get(), grids[2].get(), grids[3].get(), grids[4].get()}, path);
+
+  SceneHeader h;
+  // The tsdf's background (its truncation) lives in its tree; vdbfuse states it in the metadata.
+  h.meta = sceneMetadataFromFile(*file_meta, *tsdf, 0.f, path);
+  h.has_classes = grids[3] != nullptr;
+  SceneSummary& s = h.summary;
+  for (const openvdb::GridBase::Ptr& grid : grids) {
+    if (!grid) continue;
+    const auto voxels = gridStatistic<openvdb::Int64Metadata>(*grid, openvdb::GridBase::META_FILE_VOXEL_COUNT);
+    const auto bytes = gridStatistic<openvdb::Int64Metadata>(*grid, openvdb::GridBase::META_FILE_MEM_BYTES);
+    if (!voxels || !bytes) return h;  // statistics_recorded stays false
+    if (voxels->value() < 0 || bytes->value() < 0)
+      throw Error(path + ": grid '" + grid->getName() + "' states negative statistics (a damaged or crafted file)");
+    s.grids.push_back({grid->getName(), grid->valueType(), size_t(voxels->value()), size_t(bytes->value())});
+    s.memory_bytes += size_t(bytes->value());
+  }
+  s.active_voxels = s.grids.front().active_voxels;
+  s.empty = s.active_voxels == 0;
+  if (!s.empty) {
+    const auto lo = gridStatistic<openvdb::Vec3IMetadata>(*tsdf, openvdb::GridBase::META_FILE_BBOX_MIN);
+    const auto hi = gridStatistic<openvdb::Vec3IMetadata>(*tsdf, openvdb::GridBase::META_FILE_BBOX_MAX);
+    if (!lo || !hi) return h;
+    // As summarizeScene: the outer faces of the extreme voxels.
+    const openvdb::Vec3d a = tsdf->indexToWorld(openvdb::Vec3d(lo->value()) - openvdb::Vec3d(0.5));
+    const openvdb::Vec3d b = tsdf->indexToWorld(openvdb::Vec3d(hi->value()) + openvdb::Vec3d(0.5));
+    s.bounds_min_m = {float(a.x()), float(a.y()), float(a.z())};
+    s.bounds_max_m = {float(b.x()), float(b.y()), float(b.z())};
+  }
+  h.statistics_recorded = true;
+  return h;
+}
 
 SceneSummary summarizeScene(const Scene& scene, const Rigid3f& surface_frame) {
   const SceneGrids& g = scene.grids();

@@ -164,10 +164,9 @@ void writeVdbFileAtomic(const std::string& path, const openvdb::GridPtrVec& grid
   output.commit();
 }
 
-// Every grid in one uniform, axis-scaled frame with a sane voxel (10 um .. 10 m): anything else
-// (a crafted transform, zero or non-finite scale) meshes to NaN or infinite coordinates.
-static void checkGridTransforms(const SceneGrids& g, const std::string& path) {
-  const openvdb::math::Transform& t = g.tsdf->transform();
+void checkSceneGridTransforms(const openvdb::GridBase& tsdf, const std::vector<const openvdb::GridBase*>& others,
+                              const std::string& path) {
+  const openvdb::math::Transform& t = tsdf.transform();
   const openvdb::Vec3d v = t.voxelSize();
   const bool uniform = std::isfinite(v[0]) && v[0] >= 1e-5 && v[0] <= 10.0 &&
                        std::fabs(v[1] - v[0]) <= 1e-6 * v[0] && std::fabs(v[2] - v[0]) <= 1e-6 * v[0];
@@ -178,10 +177,31 @@ static void checkGridTransforms(const SceneGrids& g, const std::string& path) {
     throw Error(path + ": grid 'tsdf' has a voxel of " + std::to_string(v[0]) + " x " + std::to_string(v[1]) + " x " +
                 std::to_string(v[2]) + " m in a " + t.mapType() +
                 " transform; a scene needs cubic voxels of 10 um to 10 m, unrotated (a damaged or crafted file)");
-  const openvdb::GridBase* others[] = {g.weight.get(), g.color.get(), g.class_id.get(), g.class_confidence.get()};
   for (const openvdb::GridBase* other : others)
     if (other && other->transform() != t)
       throw Error(path + ": grid '" + other->getName() + "' is not in the frame of grid 'tsdf' (a damaged or crafted file)");
+}
+
+SceneMetadata sceneMetadataFromFile(const openvdb::MetaMap& meta, const openvdb::GridBase& tsdf,
+                                    float fallback_truncation_m, const std::string& path) {
+  SceneMetadata m;
+  const double grid_voxel_m = tsdf.voxelSize()[0];
+  m.voxel_size_m = float(grid_voxel_m);
+  m.truncation_m = fallback_truncation_m;
+  if (auto v = meta.getMetadata<openvdb::FloatMetadata>(kMetaVoxelSize)) m.voxel_size_m = v->value();
+  if (auto v = meta.getMetadata<openvdb::FloatMetadata>(kMetaTruncation)) m.truncation_m = v->value();
+  if (auto v = meta.getMetadata<openvdb::StringMetadata>(kMetaClasses)) m.classes = classesFromJson(v->value(), path);
+  if (auto v = meta.getMetadata<openvdb::StringMetadata>(kMetaSource)) m.source = v->value();
+  if (auto v = meta.getMetadata<openvdb::Int32Metadata>(kMetaFrameCount)) m.frame_count = v->value();
+  if (auto v = meta.getMetadata<openvdb::StringMetadata>(kMetaVersion)) m.software_version = v->value();
+  readFrameMeta(meta, m, path);
+  if (!(std::isfinite(m.voxel_size_m) && std::fabs(m.voxel_size_m - float(grid_voxel_m)) <= 1e-4f * m.voxel_size_m))
+    throw Error(path + ": metadata voxel size " + std::to_string(m.voxel_size_m) + " m contradicts the grid's " +
+                std::to_string(grid_voxel_m) + " m (a damaged or crafted file)");
+  if (!(std::isfinite(m.truncation_m) && m.truncation_m >= 0 && m.truncation_m < 1e3f * m.voxel_size_m))
+    throw Error(path + ": truncation " + std::to_string(m.truncation_m) + " m is not a distance of at most "
+                "1000 voxels (a damaged or crafted file)");
+  return m;
 }
 
 Scene readScene(const std::string& path) {
@@ -234,25 +254,9 @@ Scene readScene(const std::string& path) {
   g.class_id = findGrid<openvdb::Int32Grid>(grids, kClassGridName, path, false);
   g.class_confidence = findGrid<openvdb::FloatGrid>(grids, kClassConfidenceGridName, path, false);
 
-  checkGridTransforms(g, path);
-  SceneMetadata& m = scene.meta;
-  m.voxel_size_m = float(g.tsdf->voxelSize()[0]);
-  m.truncation_m = g.tsdf->background();
-  if (auto v = meta->getMetadata<openvdb::FloatMetadata>(kMetaVoxelSize)) m.voxel_size_m = v->value();
-  if (auto v = meta->getMetadata<openvdb::FloatMetadata>(kMetaTruncation)) m.truncation_m = v->value();
-  if (auto v = meta->getMetadata<openvdb::StringMetadata>(kMetaClasses))
-    m.classes = classesFromJson(v->value(), path);
-  if (auto v = meta->getMetadata<openvdb::StringMetadata>(kMetaSource)) m.source = v->value();
-  if (auto v = meta->getMetadata<openvdb::Int32Metadata>(kMetaFrameCount)) m.frame_count = v->value();
-  if (auto v = meta->getMetadata<openvdb::StringMetadata>(kMetaVersion)) m.software_version = v->value();
-  readFrameMeta(*meta, m, path);
-  if (!(std::isfinite(m.voxel_size_m) && std::fabs(m.voxel_size_m - float(g.tsdf->voxelSize()[0])) <=
-                                             1e-4f * m.voxel_size_m))
-    throw Error(path + ": metadata voxel size " + std::to_string(m.voxel_size_m) + " m contradicts the grid's " +
-                std::to_string(g.tsdf->voxelSize()[0]) + " m (a damaged or crafted file)");
-  if (!(std::isfinite(m.truncation_m) && m.truncation_m >= 0 && m.truncation_m < 1e3f * m.voxel_size_m))
-    throw Error(path + ": truncation " + std::to_string(m.truncation_m) + " m is not a distance of at most "
-                "1000 voxels (a damaged or crafted file)");
+  checkSceneGridTransforms(*g.tsdf, {g.weight.get(), g.color.get(), g.class_id.get(), g.class_confidence.get()},
+                           path);
+  scene.meta = sceneMetadataFromFile(*meta, *g.tsdf, g.tsdf->background(), path);
   return scene;
 }
 

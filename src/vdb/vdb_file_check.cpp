@@ -320,7 +320,8 @@ struct Descriptor {
 };
 
 // io::Archive::readGrid from the descriptor's grid position. True if it ended at the stated end.
-bool checkGrid(ByteReader& c, const Descriptor& d) {
+// Without `with_tree`, only what File::readGridMetadata reads: the grid's metadata and transform.
+bool checkGrid(ByteReader& c, const Descriptor& d, bool with_tree) {
   c.seek(d.grid_pos, "grid '" + d.grid_name + "' position");
   GridLayout g = layoutOfGridType(c, d.grid_name, d.type);
   g.compression = c.read<uint32_t>("grid compression flags");
@@ -328,6 +329,7 @@ bool checkGrid(ByteReader& c, const Descriptor& d) {
   if (g.from_half != d.half_suffix)
     c.fail("grid '" + d.grid_name + "': its descriptor and its metadata disagree on half-float storage");
   checkTransform(c, d.grid_name);
+  if (!with_tree) return false;
   if (d.instance_parent.empty()) checkTree(c, g);
   if (int64_t(c.offset()) > d.end_pos) c.fail("grid '" + d.grid_name + "' runs past its stated end");
   return int64_t(c.offset()) == d.end_pos;
@@ -380,7 +382,9 @@ std::vector<Descriptor> checkHeaderAndDescriptors(ByteReader& c) {
 
 }  // namespace
 
-VdbFileWalk checkVdbFileStructure(const std::string& path, const std::vector<std::string>& grids_to_read) {
+namespace {
+
+VdbFileWalk checkVdbFile(const std::string& path, const std::vector<std::string>& grids_to_read, bool with_trees) {
   ensureOpenVdbInitialized();  // the metadata type registry
   const MappedFile file(path, "scene file");
   ByteReader c(file.data(), file.size(), path + ": damaged or unsupported .vdb file");
@@ -388,7 +392,7 @@ VdbFileWalk checkVdbFileStructure(const std::string& path, const std::vector<std
   VdbFileWalk walk;
   const auto check = [&](const Descriptor& d) {
     ++walk.grids_checked;
-    if (checkGrid(c, d)) ++walk.grids_ending_at_stated_end;
+    if (checkGrid(c, d, with_trees)) ++walk.grids_ending_at_stated_end;
   };
 
   // libopenvdb picks the first descriptor of a name; check every one of that name.
@@ -411,6 +415,16 @@ VdbFileWalk checkVdbFileStructure(const std::string& path, const std::vector<std
     }
   }
   return walk;
+}
+
+}  // namespace
+
+VdbFileWalk checkVdbFileStructure(const std::string& path, const std::vector<std::string>& grids_to_read) {
+  return checkVdbFile(path, grids_to_read, /*with_trees=*/true);
+}
+
+VdbFileWalk checkVdbFileHeaders(const std::string& path, const std::vector<std::string>& grids_to_read) {
+  return checkVdbFile(path, grids_to_read, /*with_trees=*/false);
 }
 
 }  // namespace vf

@@ -25,5 +25,9 @@ struct VdbFileWalk {
   int grids_ending_at_stated_end = 0;  // walks that ended exactly where the grid's descriptor says
 };
 VdbFileWalk checkVdbFileStructure(const std::string& path, const std::vector<std::string>& grids_to_read);
+// The same walk for a reader of headers only (File::readGridMetadata, `vdbfuse info`): each grid
+// in `grids_to_read` is checked as far as its metadata and transform, its tree is not visited
+// (nor paged in: the file is mapped, so a 300 MB scene costs a few pages).
+VdbFileWalk checkVdbFileHeaders(const std::string& path, const std::vector<std::string>& grids_to_read);
 
 }  // namespace vf

@@ -263,3 +263,96 @@ TEST(SceneFile, TruncatedForeignAndIncompleteFilesAreClearErrors) {
 
 }  // namespace
 }  // namespace vf
+
+namespace vf {
+namespace {
+
+// `info` reads only the headers (issue 37): the counts, bounds and metadata there must be what
+// reading the whole scene finds, for both writers.
+void expectHeaderMatchesFullRead(const std::string& path) {
+  SCOPED_TRACE(path);
+  const SceneHeader h = readSceneHeader(path);
+  ASSERT_TRUE(h.statistics_recorded);
+  const Scene scene = readScene(path);
+  const SceneSummary full = summarizeScene(scene);
+  ASSERT_EQ(h.summary.grids.size(), full.grids.size());
+  for (size_t i = 0; i < full.grids.size(); ++i) {
+    EXPECT_EQ(h.summary.grids[i].name, full.grids[i].name);
+    EXPECT_EQ(h.summary.grids[i].value_type, full.grids[i].value_type);
+    EXPECT_EQ(h.summary.grids[i].active_voxels, full.grids[i].active_voxels);
+    // The size the grid had in memory when written; read back it is the same structure.
+    EXPECT_NEAR(double(h.summary.grids[i].memory_bytes), double(full.grids[i].memory_bytes),
+                0.05 * double(full.grids[i].memory_bytes));
+  }
+  EXPECT_EQ(h.summary.active_voxels, full.active_voxels);
+  EXPECT_GT(h.summary.active_voxels, 10000u);
+  EXPECT_FALSE(h.summary.empty);
+  for (const auto& [a, b] : {std::pair{h.summary.bounds_min_m, full.bounds_min_m}, {h.summary.bounds_max_m, full.bounds_max_m}}) {
+    EXPECT_FLOAT_EQ(a.x, b.x);
+    EXPECT_FLOAT_EQ(a.y, b.y);
+    EXPECT_FLOAT_EQ(a.z, b.z);
+  }
+  EXPECT_EQ(h.summary.surface_voxels, 0u) << "the surface needs the voxels: left to summarizeScene";
+  EXPECT_TRUE(h.summary.classes.empty());
+  EXPECT_EQ(h.has_classes, scene.hasClasses());
+  EXPECT_EQ(h.meta.source, scene.meta.source);
+  EXPECT_EQ(h.meta.frame_count, scene.meta.frame_count);
+  EXPECT_FLOAT_EQ(h.meta.voxel_size_m, scene.meta.voxel_size_m);
+  EXPECT_FLOAT_EQ(h.meta.truncation_m, scene.meta.truncation_m);
+  EXPECT_EQ(h.meta.classes.classes.size(), scene.meta.classes.classes.size());
+  EXPECT_EQ(h.meta.up_source, scene.meta.up_source);
+  EXPECT_FLOAT_EQ(h.meta.up_world.y, scene.meta.up_world.y);
+}
+
+TEST(SceneHeader, CountsAndBoundsFromTheHeadersMatchTheVoxels) {
+  for (const bool with_classes : {true, false}) {
+    test::SyntheticVolume volume(sphereSpec(), with_classes);
+    fillSdf(volume, sphereSdf({0.05f, 0, 0}, 0.2f), 0.f);
+    SceneMetadata meta = sampleMeta();
+    if (!with_classes) meta.classes = {};
+    meta.up_world = {0, -1, 0};
+    meta.forward_world = {0, 0, 1};
+    meta.up_source = "floor plane";
+    const std::string dir = test::tempDir(std::string("scene_header_") + (with_classes ? "classes" : "plain"));
+    writeScene(sceneFromBricks(volume.view(), meta), dir + "/memory.vdb");
+    writeSceneFromBricks(volume.view(), meta, dir + "/streamed.vdb");
+    expectHeaderMatchesFullRead(dir + "/memory.vdb");
+    expectHeaderMatchesFullRead(dir + "/streamed.vdb");
+  }
+}
+
+// Timing-free proof that no tree is read: the last grid's leaf values are overwritten with
+// garbage. Reading the scene fails on them; the header reader never looks there.
+TEST(SceneHeader, DoesNotReadTheVoxelTrees) {
+  test::SyntheticVolume volume(sphereSpec(), true);
+  fillSdf(volume, sphereSdf({0, 0, 0}, 0.2f), 0.f);
+  const std::string dir = test::tempDir("scene_header_trees");
+  const std::string path = dir + "/scene.vdb";
+  writeScene(sceneFromBricks(volume.view(), sampleMeta()), path);
+  const SceneHeader before = readSceneHeader(path);
+  const uintmax_t size = fs::file_size(path);
+  {
+    std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+    const std::string garbage(4096, '\xA5');
+    f.seekp(std::streamoff(size - garbage.size() - 64));  // inside class_confidence's leaf buffers
+    f.write(garbage.data(), std::streamsize(garbage.size()));
+  }
+  ASSERT_EQ(fs::file_size(path), size);
+  EXPECT_THROW(readScene(path), Error) << "the damage must lie in the voxel data";
+  const SceneHeader after = readSceneHeader(path);
+  EXPECT_EQ(after.summary.active_voxels, before.summary.active_voxels);
+  EXPECT_EQ(after.summary.grids.size(), 5u);
+  EXPECT_EQ(after.meta.classes.classes.size(), 2u);
+}
+
+TEST(SceneHeader, DamagedHeadersAndForeignFilesAreClearErrors) {
+  const std::string dir = test::tempDir("scene_header_errors");
+  const std::string missing = test::errorOf([&] { readSceneHeader(dir + "/none.vdb"); });
+  EXPECT_NE(missing.find(dir + "/none.vdb"), std::string::npos) << missing;
+  std::ofstream(dir + "/junk.vdb") << "not an OpenVDB file";
+  const std::string junk = test::errorOf([&] { readSceneHeader(dir + "/junk.vdb"); });
+  EXPECT_NE(junk.find(dir + "/junk.vdb"), std::string::npos) << junk;
+}
+
+}  // namespace
+}  // namespace vf

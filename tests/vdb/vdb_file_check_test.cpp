@@ -14,6 +14,7 @@
 #include "test_data.h"
 #include "vdb/scene.h"
 #include "vdb/scene_grids.h"
+#include "vdb/scene_info.h"
 #include "vdb/vdb_file_check.h"
 
 namespace vf {
@@ -204,6 +205,56 @@ TEST_F(VdbFileCheck, RejectsAForeignFileByName) {
               std::string::npos)
         << e.what();
   }
+}
+
+}  // namespace
+}  // namespace vf
+
+namespace vf {
+namespace {
+
+// readSceneHeader (`vdbfuse info`) takes counts from the statistics libopenvdb writes beside
+// each grid. A file written without them (File::setGridStatsMetadataEnabled(false)) still
+// gives its metadata, and says that its voxels must be read for the counts.
+TEST(SceneHeaderStatistics, AFileWithoutGridStatisticsSaysSo) {
+  ensureOpenVdbInitialized();
+  const fs::path dir = test::tempDir("scene_header_no_stats");
+  Scene scene;
+  scene.grids().tsdf = openvdb::FloatGrid::create(0.04f);
+  scene.grids().tsdf->setName("tsdf");
+  scene.grids().tsdf->setGridClass(openvdb::GRID_LEVEL_SET);
+  scene.grids().tsdf->setTransform(openvdb::math::Transform::createLinearTransform(0.01));
+  scene.grids().tsdf->fill(openvdb::CoordBBox({0, 0, 0}, {15, 15, 15}), 0.01f, true);
+  scene.grids().weight = scene.grids().tsdf->deepCopy();
+  scene.grids().weight->setName("weight");
+  scene.grids().weight->setGridClass(openvdb::GRID_UNKNOWN);
+  scene.meta.voxel_size_m = 0.01f;
+  scene.meta.truncation_m = 0.04f;
+  scene.meta.source = "written without statistics";
+  const std::string with = (dir / "with.vdb").string(), without = (dir / "without.vdb").string();
+  writeScene(scene, with);
+  {
+    openvdb::io::File in(with);
+    in.open(false);
+    openvdb::GridPtrVecPtr grids = in.getGrids();
+    openvdb::MetaMap::Ptr meta = in.getMetadata();
+    in.close();
+    for (auto& g : *grids)
+      for (const char* key : {openvdb::GridBase::META_FILE_VOXEL_COUNT, openvdb::GridBase::META_FILE_MEM_BYTES,
+                              openvdb::GridBase::META_FILE_BBOX_MIN, openvdb::GridBase::META_FILE_BBOX_MAX})
+        g->removeMeta(key);
+    openvdb::io::File out(without);
+    out.setGridStatsMetadataEnabled(false);
+    out.write(*grids, *meta);
+    out.close();
+  }
+  const SceneHeader h = readSceneHeader(with), bare = readSceneHeader(without);
+  EXPECT_TRUE(h.statistics_recorded);
+  EXPECT_EQ(h.summary.active_voxels, 16u * 16u * 16u);
+  EXPECT_FALSE(bare.statistics_recorded);
+  EXPECT_EQ(bare.meta.source, "written without statistics");
+  EXPECT_FLOAT_EQ(bare.meta.truncation_m, 0.04f);
+  EXPECT_EQ(readScene(without).activeVoxelCount(), 16u * 16u * 16u) << "the file itself is fine";
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // parts, bounds, trajectory), slices through the grids, merged exports. No display needed.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 
@@ -10,6 +11,7 @@
 #include "vdb/mesher.h"
 #include "vdb/scene_info.h"
 #include "viewer/frustum_poses.h"
+#include "viewer/level_frame.h"
 #include "viewer/scene_content.h"
 #include "viewer/slice.h"
 #include "viewer/view_options.h"
@@ -25,7 +27,15 @@ TEST(ViewOptions, ParsesSliceCameraAndSize) {
   EXPECT_EQ(s.axis, 1);
   EXPECT_FLOAT_EQ(s.value_m, -0.25f);
   EXPECT_EQ(parseSliceSpec("x:1").axis, 0);
-  for (const char* bad : {"w:1", "z:", "z", "z:abc", "z=1", "z:1.5m"}) EXPECT_THROW(parseSliceSpec(bad), Error) << bad;
+  for (const char* bad : {"w:1", "z:", "z", "z:abc", "z=1", "z:1.5m", "height=", "height=1m", "height"})
+    EXPECT_THROW(parseSliceSpec(bad), Error) << bad;
+  for (const char* floor_plan : {"height=1.25", "height:1.25"}) {
+    const SliceSpec h = parseSliceSpec(floor_plan);
+    EXPECT_TRUE(h.enabled && h.level) << floor_plan;
+    EXPECT_FLOAT_EQ(h.value_m, 1.25f);
+  }
+  const std::string error = test::errorOf([] { parseSliceSpec("floor"); });
+  EXPECT_NE(error.find("height=METRES"), std::string::npos) << error;
 
   EXPECT_EQ(parseCameraSpec("front").preset, CameraPreset::kFront);
   EXPECT_EQ(parseCameraSpec("top").preset, CameraPreset::kTop);
@@ -250,6 +260,106 @@ TEST(MergeMeshes, ConcatenatesAndRenumbers) {
   EXPECT_EQ(m.classes[4], 2);
   EXPECT_EQ(m.colors.size(), 6u);
   EXPECT_TRUE(m.normals.empty());
+}
+
+// In double, by atan2: acos of a float dot product cannot tell angles below 0.03 degrees.
+double degreesBetween(Vec3f a, Vec3f b) {
+  const Eigen::Vector3d u(a.x, a.y, a.z), v(b.x, b.y, b.z);
+  return std::atan2(u.cross(v).norm(), u.dot(v)) * 180 / M_PI;
+}
+
+TEST(LevelFrame, FloorIsTheDenseLayerAtTheBottom) {
+  std::vector<float> heights;
+  for (int i = 0; i < 5000; ++i) heights.push_back(0.30f + 0.004f * float(i % 5 - 2));  // the floor, +-8 mm
+  for (int i = 0; i < 5000; ++i) heights.push_back(0.3f + 2.5f * float(i) / 5000);     // walls up to 2.8 m
+  for (int i = 0; i < 40; ++i) heights.push_back(-0.4f);                              // strays under the floor
+  EXPECT_NEAR(floorHeight(heights), 0.30, 0.005);
+  EXPECT_EQ(floorHeight({}), 0.0);
+}
+
+TEST(LevelFrame, PresetsAreLevelInTheScenesUpFrame) {
+  // Up tilted 25 degrees from the first camera's -y and turned 40 degrees about z.
+  const Eigen::Matrix3d r = test::tiltRotation(25, 40);
+  const Vec3f up = test::rotated(r, {0, -1, 0}), forward = test::rotated(r, {0, 0, 1});
+  const LevelFrame f = levelFrame(up, forward, {});
+  EXPECT_LT(degreesBetween(f.right, test::rotated(r, {1, 0, 0})), 1e-3);
+  const PresetView front = presetView(f, CameraPreset::kFront), side = presetView(f, CameraPreset::kSide),
+                   top = presetView(f, CameraPreset::kTop);
+  EXPECT_LT(degreesBetween(front.view_up, up), 1e-3);
+  EXPECT_NEAR(degreesBetween(front.direction, up), 90, 1e-3) << "front is level";
+  EXPECT_LT(degreesBetween(front.direction, forward), 1e-3) << "front looks the way the first camera did";
+  EXPECT_LT(degreesBetween(side.view_up, up), 1e-3);
+  EXPECT_NEAR(degreesBetween(side.direction, up), 90, 1e-3) << "side is level";
+  EXPECT_NEAR(degreesBetween(side.direction, forward), 90, 1e-3) << "side is turned 90 degrees about up";
+  EXPECT_LT(degreesBetween(top.direction, -up), 1e-3) << "top looks down";
+  EXPECT_LT(degreesBetween(top.view_up, forward), 1e-3);
+  // A slice across a world axis is faced by the preset nearest to it; a floor plan from the top.
+  SliceSpec plan;
+  plan.level = true;
+  EXPECT_EQ(cameraFacingSlice(plan, up, forward), CameraPreset::kTop);
+  SliceSpec across_z;
+  across_z.axis = 2;
+  EXPECT_EQ(cameraFacingSlice(across_z, {0, -1, 0}, {0, 0, 1}), CameraPreset::kFront);
+  across_z.axis = 1;
+  EXPECT_EQ(cameraFacingSlice(across_z, {0, -1, 0}, {0, 0, 1}), CameraPreset::kTop);
+}
+
+TEST(LevelFrame, SceneContentTakesUpFromTheSceneAndFindsItsFloor) {
+  const std::string dir = test::tempDir("viewer_level_frame");
+  writeScene(test::tiltedBallOnFloorScene(25, 40), dir + "/tilted.vdb");
+  const SceneContent c = loadSceneContent(dir + "/tilted.vdb", "", false, 0.f);
+  const Vec3f up = test::rotated(test::tiltRotation(25, 40), {0, -1, 0});
+  EXPECT_LT(degreesBetween(c.frame.up, up), 0.01);
+  EXPECT_EQ(c.frame.up_source, "recorded poses");
+  // The floor: dot(p, up) = -kFloorY (the ball's centre at the origin, 0.22 m above it).
+  EXPECT_NEAR(c.frame.floor_m, -test::kFloorY, 0.005);
+  EXPECT_NEAR(c.frame.max.z - c.frame.floor_m, test::kFloorY + test::kBallRadius, 0.01) << "the ball's top";
+}
+
+// A scene written before up was recorded: estimated as exports estimate it (here from the
+// floor plane under the ball), and the user is told.
+TEST(LevelFrame, SceneWithoutUpGetsItEstimatedWithANotice) {
+  const std::string dir = test::tempDir("viewer_level_frame_no_up");
+  Scene scene = test::tiltedBallOnFloorScene(20, 0);
+  const Vec3f floor_normal = scene.meta.up_world;
+  scene.meta.up_world = scene.meta.forward_world = {0, 0, 0};
+  scene.meta.up_source.clear();
+  writeScene(scene, dir + "/old.vdb");
+  const SceneContent c = loadSceneContent(dir + "/old.vdb", "", false, 0.f);
+  EXPECT_LT(degreesBetween(c.frame.up, floor_normal), 2.0) << "the floor's normal, not the first camera's -y";
+  ASSERT_FALSE(c.notices.empty());
+  EXPECT_NE(c.notices.back().find("estimated"), std::string::npos) << c.notices.back();
+  EXPECT_NE(c.frame.up_source.find("estimated"), std::string::npos) << c.frame.up_source;
+}
+
+TEST(Slice, FloorPlanIsHorizontalInTheScenesUpFrame) {
+  // A floor tilted 25 degrees in the grid's axes: a plane 2 cm above it, sampled level, holds
+  // tsdf = +2 cm wherever it is away from the ball; a plane tilted against the floor would not.
+  const Scene scene = test::tiltedBallOnFloorScene(25, 40);
+  const SceneSummary summary = summarizeScene(scene);
+  MeshOptions options;
+  const TriangleMesh mesh = meshScene(scene, options);
+  const LevelFrame f = levelFrame(scene.meta.up_world, scene.meta.forward_world, {&mesh});
+  const SliceImage s = sampleLevelSlice(scene, summary, f, SliceGrid::kTsdf, 0.02f);
+  EXPECT_TRUE(s.level);
+  EXPECT_LT(degreesBetween(s.normal, scene.meta.up_world), 1e-3) << "the plane's normal is up";
+  EXPECT_LT(std::fabs(dot(s.u_dir, scene.meta.up_world)) + std::fabs(dot(s.v_dir, scene.meta.up_world)), 1e-5);
+  size_t on_floor = 0, off = 0;
+  for (int v = 0; v < s.height; ++v)
+    for (int u = 0; u < s.width; ++u) {
+      const float x = s.values[size_t(v) * s.width + u];
+      if (!std::isfinite(x)) continue;
+      const Vec3f p = s.origin_m + s.u_dir * (u * s.spacing_m) + s.v_dir * (v * s.spacing_m);
+      if (norm(p) - test::kBallRadius < scene.meta.truncation_m + 0.02f) continue;  // near the ball
+      ++on_floor;
+      // The nearest voxel's centre lies within half a voxel's diagonal of the sample.
+      off += std::fabs(x - 0.02f) > 0.0087f;
+    }
+  EXPECT_GT(on_floor, 1500u) << "the plane crosses the floor's band over the whole box";
+  EXPECT_EQ(off, 0u) << "samples whose distance to the floor is not the plane's height";
+  EXPECT_NO_THROW(requireLevelInRange(summary, f, 0.3f));
+  const std::string error = test::errorOf([&] { requireLevelInRange(summary, f, 5.f); });
+  EXPECT_NE(error.find("height=5 lies outside"), std::string::npos) << error;
 }
 
 }  // namespace

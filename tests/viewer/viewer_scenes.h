@@ -22,6 +22,36 @@ inline Scene ballOnFloorScene(bool with_classes) {
   SceneMetadata meta;
   if (with_classes) meta.classes.classes = {{kClassLeft, "chair", kChairColor}, {kClassRight, "table", kTableColor}};
   meta.source = "viewer test ball";
+  meta.up_world = {0, -1, 0};  // as reconstruct records it: up and heading of the first camera
+  meta.forward_world = {0, 0, 1};
+  meta.up_source = "camera up-vectors";
+  return sceneFromBricks(volume.view(), meta);
+}
+
+// A rotation of the world: tilt_deg about x, then turn_deg about z.
+inline Eigen::Matrix3d tiltRotation(double tilt_deg, double turn_deg) {
+  return (Eigen::AngleAxisd(turn_deg * M_PI / 180, Eigen::Vector3d::UnitZ()) *
+          Eigen::AngleAxisd(tilt_deg * M_PI / 180, Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+inline Vec3f rotated(const Eigen::Matrix3d& r, Vec3f v) {
+  const Eigen::Vector3d w = r * Eigen::Vector3d(v.x, v.y, v.z);
+  return {float(w.x()), float(w.y()), float(w.z())};
+}
+
+// The ball on its floor, both turned by tiltRotation (the world frame of a first camera that
+// looked down and rolled, or of recorded poses): the floor's normal is the recorded up.
+inline Scene tiltedBallOnFloorScene(double tilt_deg, double turn_deg) {
+  const Eigen::Matrix3d r = tiltRotation(tilt_deg, turn_deg);
+  const Vec3f up = rotated(r, {0, -1, 0}), forward = rotated(r, {0, 0, 1});
+  test::SyntheticVolume volume(sphereSpec(64, 0.01f), false);
+  const auto ball = sphereSdf({0, 0, 0}, kBallRadius);
+  fillSdf(volume, [&](Vec3f p) { return std::min(ball(p), dot(p, up) + kFloorY); }, 0.f);
+  SceneMetadata meta;
+  meta.source = "viewer test tilted ball";
+  meta.up_world = up;
+  meta.forward_world = forward;
+  meta.up_source = "recorded poses";
   return sceneFromBricks(volume.view(), meta);
 }
 
