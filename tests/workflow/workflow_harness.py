@@ -40,6 +40,9 @@ def main(test):
     except Failure as failure:
         print(f"FAILED: {failure}\n(products kept in {tmp})")
         sys.exit(1)
+    except SystemExit:  # a skip
+        shutil.rmtree(tmp)
+        raise
     shutil.rmtree(tmp)
     print("passed")
 
