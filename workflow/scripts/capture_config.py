@@ -3,6 +3,7 @@ their defaults, and the figures its jobs' resources are estimated from. A mistak
 (an unknown key, a name that cannot be a folder) stops the workflow before any job with a message
 naming the capture; a capture that is missing or broken on disk does not: its reconstruct job fails
 alone, with vdbfuse's message in the summary."""
+import difflib
 import re
 from dataclasses import dataclass, field
 from typing import List, Optional
@@ -87,7 +88,9 @@ def _capture(name, settings, defaults):
         raise ValueError(f"{where}: give at least 'input: PATH' (any capture vdbfuse reconstruct reads)")
     unknown = sorted(set(settings) - KNOWN_KEYS)
     if unknown:
-        raise ValueError(f"{where}: unknown key(s) {', '.join(unknown)}; known: {', '.join(sorted(KNOWN_KEYS))}")
+        hints = [f"{key} (did you mean {close[0]}?)" if (close := difflib.get_close_matches(key, KNOWN_KEYS, 1)) else key
+                 for key in unknown]
+        raise ValueError(f"{where}: unknown key(s) {', '.join(hints)}; known: {', '.join(sorted(KNOWN_KEYS))}")
     merged = dict(defaults)
     merged.update(settings)
     c = Capture(name=name, input=str(merged["input"]))
@@ -104,6 +107,8 @@ def _capture(name, settings, defaults):
     for key in ("checkpoint_every", "threads", "mem_mb", "runtime_min"):
         if key in merged:
             setattr(c, key, int(merged[key]))
+    if c.device not in ("cpu", "cuda", "auto"):
+        raise ValueError(f"{where}.device: {c.device!r}; expected cpu, cuda or auto")
     if c.poses not in ("icp", "given", "given+icp"):
         raise ValueError(f"{where}.poses: {c.poses!r}; expected icp, given or given+icp")
     # With --poses given the trajectory is the ground truth itself: nothing to measure.
