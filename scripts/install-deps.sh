@@ -12,8 +12,11 @@ $SUDO apt-get install -y -qq --no-install-recommends \
   libpng-dev libdeflate-dev libjpeg62-turbo-dev zlib1g-dev \
   libvtk9-dev xvfb xauth \
   libgtest-dev libbenchmark-dev \
-  blender python3-numpy time bc
+  blender python3-numpy time bc \
+  snakemake slurm-wlm munge
 # libceres-dev: the pose graph of the loop closure (src/slam/pose_graph.cpp).
 # blender (3.4 on Debian 12): tests/vdb/blender_test.cpp imports, renders and judges the exports
 # headless (it skips, saying so, where blender is missing). python3-numpy: Blender's glTF
 # importer and samples/blender/judge_scene.py need it, and Debian's blender does not pull it in.
+# snakemake (7.21), slurm-wlm, munge: workflow/ and its tests (tests/workflow); the Slurm test starts
+# its own one-node cluster under a temporary folder and skips, saying why, where it cannot.

@@ -16,6 +16,7 @@
 #include "app/reconstruct_options.h"
 #include "app/reconstruct_report.h"
 #include "app/run_control.h"
+#include "core/atomic_output.h"
 #include "core/error.h"
 #include "core/version.h"
 #include "slam/reconstruction.h"
@@ -205,6 +206,19 @@ void runReconstruct(const ReconstructOptions& o) {
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
   printMemory(run.pipeline().brickCount(), run.pipeline().volumeBytes());
+  if (!o.report_json.empty()) {
+    RunFigures figures;
+    figures.frames = run.frameCount();
+    figures.fused = run.framesFused();
+    figures.relocalisations = run.tracker().relocalisations();
+    figures.resumed_after_frame = first;
+    figures.lost = run.lostFrames();
+    figures.seconds = wall_s;
+    figures.bricks = run.pipeline().brickCount();
+    figures.active_voxels = written.voxels;
+    figures.device = deviceName(run.pipeline().device());
+    writeFileAtomic(o.report_json, runFiguresJson(figures));
+  }
 }
 
 void setupReconstructCommand(CLI::App& root) {

@@ -65,6 +65,9 @@ void addReconstructOptions(CLI::App& cmd, ReconstructOptions& o) {
       ->check(CLI::IsMember({"on", "off"}));
   cmd.add_option("--odometry", o.odometry,
                  "Also write the trajectory tracking gave before the loop closure moved it (TUM format)");
+  cmd.add_option("--report-json", o.report_json,
+                 "Write the run's figures as JSON once it finished: frames, tracked, fused, lost (by reason), "
+                 "seconds, peak_mib, bricks, active_voxels, device");
   cmd.add_flag("--resume", o.resume, "Continue an interrupted run from OUTPUT.checkpoint (same dataset and options)");
 }
 
@@ -112,12 +115,14 @@ void claimOutputs(const ReconstructOptions& o) {
   // A resumed run replaces the interrupted run's outputs: they are its own.
   if (!o.output.empty()) OutputPolicy::requireExtension(o.output, {".vdb"}, "-o");
   if (!o.video.empty()) OutputPolicy::requireExtension(o.video, {".mp4"}, "--video");
+  if (!o.report_json.empty()) OutputPolicy::requireExtension(o.report_json, {".json"}, "--report-json");
   OutputPolicy outputs(o.force || o.resume);
   outputs.input(o.dataset);
   if (!o.labels_dir.empty()) outputs.input(o.labels_dir);
   if (!o.output.empty()) outputs.file(o.output, "-o");
   if (!o.trajectory.empty()) outputs.file(o.trajectory, "--trajectory");
   if (!o.odometry.empty()) outputs.file(o.odometry, "--odometry");
+  if (!o.report_json.empty()) outputs.file(o.report_json, "--report-json");
   if (!o.video.empty()) outputs.file(o.video, "--video");
   if (!o.output.empty()) outputs.file(o.checkpoint(), "the checkpoint");
   if (!o.renders_dir.empty()) outputs.filesInto(o.renders_dir, "--renders");

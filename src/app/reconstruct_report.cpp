@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <map>
+#include <string>
 
 namespace vf::app {
 
@@ -98,6 +99,43 @@ void printTimingTable(const StageTimer& timer, int frames, double wall_s, std::v
   std::sort(bricks_per_frame.begin(), bricks_per_frame.end());
   std::printf("bricks fused per frame: median %d, largest %d\n", bricks_per_frame[bricks_per_frame.size() / 2],
               bricks_per_frame.back());
+}
+
+namespace {
+
+// The strings here are the run's own (reason names, device names); escaped all the same.
+std::string jsonString(const std::string& text) {
+  std::string out = "\"";
+  for (const char c : text) {
+    if (c == '"' || c == '\\') out += '\\';
+    if (static_cast<unsigned char>(c) < 0x20) {
+      char code[8];
+      std::snprintf(code, sizeof code, "\\u%04x", c);
+      out += code;
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+}  // namespace
+
+std::string runFiguresJson(const RunFigures& f) {
+  std::map<std::string, int> by_reason;
+  for (const LostFrame& l : f.lost) ++by_reason[lostReasonName(l.reason)];
+  std::string reasons;
+  for (const auto& [name, count] : by_reason)
+    reasons += (reasons.empty() ? "" : ", ") + jsonString(name) + ": " + std::to_string(count);
+  char numbers[512];
+  std::snprintf(numbers, sizeof numbers,
+                "\"frames\": %d, \"tracked\": %d, \"fused\": %d, \"lost\": %zu, \"relocalisations\": %d, "
+                "\"resumed_after_frame\": %d, \"seconds\": %.3f, \"peak_mib\": %.1f, \"bricks\": %d, "
+                "\"active_voxels\": %zu",
+                f.frames, f.frames - int(f.lost.size()), f.fused, f.lost.size(), f.relocalisations,
+                f.resumed_after_frame, f.seconds, peakResidentMiB(), f.bricks, f.active_voxels);
+  return std::string("{") + numbers + ", \"device\": " + jsonString(f.device) + ", \"lost_by_reason\": {" + reasons +
+         "}}\n";
 }
 
 void printMemory(int bricks, size_t volume_bytes) {

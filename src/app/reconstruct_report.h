@@ -28,4 +28,19 @@ void printMemory(int bricks, size_t volume_bytes);
 // Peak resident memory of this process so far, MiB.
 double peakResidentMiB();
 
+// The figures of a finished run, for `--report-json`: what a workflow's summary table reads
+// instead of parsing the printed lines.
+struct RunFigures {
+  int frames = 0, fused = 0, relocalisations = 0;
+  int resumed_after_frame = 0;  // frames a --resume found done; 0 for a run from the start
+  std::vector<LostFrame> lost;
+  double seconds = 0;  // this process's frame loop (the part after the checkpoint on --resume)
+  int bricks = 0;
+  size_t active_voxels = 0;
+  std::string device;
+};
+// One JSON object: frames, tracked, fused, lost, lost_by_reason, relocalisations,
+// resumed_after_frame, seconds, peak_mib (this process), bricks, active_voxels, device.
+std::string runFiguresJson(const RunFigures& figures);
+
 }  // namespace vf::app
