@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -53,20 +54,31 @@ pid_t spawn(const std::vector<std::string>& args, int* progress_fd = nullptr) {
   return pid;
 }
 
-// Reads the child's progress until it has reported `frames` more frames done ("N/M frames"
-// lines, one a frame on a short run without a terminal) or closed its stderr (it ended).
-void waitForFrames(int fd, int frames) {
-  std::string text;
+// Reads the child's progress lines ("N/M frames  ...", one a frame on a short run without a
+// terminal) until it has done `share` of the frames left at its first line (a resumed run starts
+// at its checkpoint's frame), rounded down, or until it closes its stderr (it ended).
+void waitForShareOfFrames(int fd, double share) {
+  std::string line;
   char buf[512];
-  int lines = 0;
-  while (lines < frames) {
+  int first_done = -1, frames = 0;
+  for (;;) {
     const ssize_t n = read(fd, buf, sizeof buf);
     if (n <= 0) return;
     for (ssize_t i = 0; i < n; ++i) {
-      text.push_back(buf[i]);
-      if (buf[i] != '\n') continue;
-      lines += text.find(" frames ") != std::string::npos ? 1 : 0;
-      text.clear();
+      if (buf[i] != '\n') {
+        line.push_back(buf[i]);
+        continue;
+      }
+      int done = 0, total = 0;
+      char unit[16] = {};
+      if (std::sscanf(line.c_str(), "%d/%d %15s", &done, &total, unit) == 3 && std::string(unit) == "frames") {
+        if (first_done < 0) {
+          first_done = done;
+          frames = int(share * (total - done));
+        }
+        if (done - first_done >= frames) return;
+      }
+      line.clear();
     }
   }
 }
@@ -145,8 +157,7 @@ TEST(KillTest, SigkillAtRandomPointsLeavesOnlyCompleteFilesAndResumeFinishesTheS
   // Kill moments are counted in frames the run reports done, then a random share of a frame's
   // time: seconds alone (drawn over the reference run's length) landed every kill in the start-up
   // once the machine was loaded more than during the reference run, and nothing was resumed.
-  std::uniform_int_distribution<int> frames_before_kill(0, 3);
-  std::uniform_real_distribution<double> share_of_frame(0.0, 1.0);
+  std::uniform_real_distribution<double> share_of_run(0.0, 1.0), share_of_frame(0.0, 1.0);
   const double frame_s = run_s / kFrames;
   int killed = 0, finished = 0, resumed = 0, max_temps = 0;
   for (int attempt = 0; attempt < 20; ++attempt) {
@@ -158,7 +169,7 @@ TEST(KillTest, SigkillAtRandomPointsLeavesOnlyCompleteFilesAndResumeFinishesTheS
     int progress_fd = -1;
     const pid_t pid = spawn(args, &progress_fd);
     ASSERT_GT(pid, 0);
-    waitForFrames(progress_fd, frames_before_kill(rng));
+    waitForShareOfFrames(progress_fd, share_of_run(rng));
     std::this_thread::sleep_for(std::chrono::duration<double>(share_of_frame(rng) * frame_s));
     kill(pid, SIGKILL);
     const int status = waitFor(pid);
