@@ -26,7 +26,12 @@ struct BakeView {
 struct BakeSampleParams {
   float depth_tolerance_m = 0.04f;    // a point is visible when the frame's depth is within this ...
   float depth_tolerance_rel = 0.02f;  // ... plus this share of the distance
-  float min_cos = 0.15f;              // views more grazing than this are not used
+  // Views more grazing than this (or from behind, by the face's normal) weigh 1 % of a frontal
+  // one: used only where nothing better sees the point. They are not refused: the depth test
+  // decides visibility, and on noisy surfaces (Kinect depth at 3-4 m) the faces' normals
+  // scatter so much that a quarter of TUM fr1/xyz's texels faced away from every frame that
+  // saw them.
+  float min_cos = 0.15f;
   float border_px = 16.f;             // weights fade to zero over this many pixels at the image border
 };
 
@@ -55,17 +60,22 @@ VF_HD bool visibleIn(const BakeView& view, const BakeSampleParams& s, Vec3f p, f
   return true;
 }
 
+// How much a view at `cos_view` (normal against the direction to the camera) counts.
+VF_HD float facingWeight(float cos_view, const BakeSampleParams& s) {
+  return cos_view >= s.min_cos ? cos_view : 0.01f * s.min_cos;
+}
+
 // The colour (sRGB 0-255, times the view's gain) view sees at p, bilinear at the colour size,
-// and its weight: the frame's quality, how frontal (cos) and how many colour pixels per metre of
-// surface, faded at the image border. False when p is not visible or out of the colour image.
+// and its weight: the frame's quality, how frontal (facingWeight) and how many colour pixels per
+// metre of surface, faded at the image border. False when p is not visible or out of the colour
+// image.
 VF_HD bool sampleView(const BakeView& view, const BakeSampleParams& s, Vec3f p, Vec3f n, Vec3f& rgb,
                              float& weight) {
   float z;
   if (!visibleIn(view, s, p, z)) return false;
   const Vec3f to_cam = view.centre_world - p;
   const float dist = norm(to_cam);
-  const float cos_view = dot(n, to_cam) / fmaxf(dist, 1e-6f);
-  if (cos_view < s.min_cos) return false;
+  const float facing = facingWeight(dot(n, to_cam) / fmaxf(dist, 1e-6f), s);
   float u, v;
   view.color_k.projectAnyDepth(view.T_cam_world * p, u, v);
   const int w = view.color.width, h = view.color.height;
@@ -81,7 +91,7 @@ VF_HD bool sampleView(const BakeView& view, const BakeSampleParams& s, Vec3f p, 
   const float edge = fminf(fminf(u, float(w - 1) - u), fminf(v, float(h - 1) - v));
   const float fade = fminf(1.f, (edge + 1.f) / s.border_px);
   const float pixels_per_m = view.color_k.fx / z;
-  weight = view.quality * cos_view * pixels_per_m * fade;
+  weight = view.quality * facing * pixels_per_m * fade;
   return true;
 }
 

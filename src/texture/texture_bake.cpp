@@ -52,8 +52,7 @@ std::vector<FaceViews> selectViews(const TriangleMesh& mesh, const std::vector<B
         const BakeView& view = views[size_t(v)];
         const Vec3f to_cam = view.centre_world - centre;
         const float dist = norm(to_cam);
-        const float cos_view = dot(n, to_cam) / std::max(dist, 1e-6f);
-        if (cos_view < o.sample.min_cos) continue;
+        const float facing = facingWeight(dot(n, to_cam) / std::max(dist, 1e-6f), o.sample);
         const Vec3f q = view.T_cam_world * centre;
         if (q.z <= 0.05f) continue;
         // Cheap rejection: the centre far outside the image (by more than the face's size).
@@ -66,7 +65,7 @@ std::vector<FaceViews> selectViews(const TriangleMesh& mesh, const std::vector<B
         float z;
         for (const Vec3f& p : points) seen += visibleIn(view, o.sample, p, z) ? 1 : 0;
         if (seen == 0) continue;
-        const float s = view.quality * cos_view * (view.color_k.fx / q.z) * float(seen) / 7.f;
+        const float s = view.quality * facing * (view.color_k.fx / q.z) * float(seen) / 7.f;
         // Insert into the few best, kept sorted by score.
         int i = fv.count < keep ? fv.count++ : keep;
         if (i == keep && s <= score[size_t(keep - 1)]) continue;
