@@ -61,11 +61,14 @@ std::vector<FaceViews> selectViews(const TriangleMesh& mesh, const std::vector<B
         const float reach = view.depth_k.fx * (norm(a - centre) + norm(b - centre) + norm(c - centre)) / q.z;
         if (u < -reach || w < -reach || u > float(view.depth_k.width) + reach || w > float(view.depth_k.height) + reach)
           continue;
+        // The score with every point seen: when that cannot enter a full list, skip the tests.
+        const float bound = view.quality * facing * (view.color_k.fx / q.z);
+        if (fv.count == keep && bound <= score[size_t(keep - 1)]) continue;
         int seen = 0;
         float z;
         for (const Vec3f& p : points) seen += visibleIn(view, o.sample, p, z) ? 1 : 0;
         if (seen == 0) continue;
-        const float s = view.quality * facing * (view.color_k.fx / q.z) * float(seen) / 7.f;
+        const float s = bound * float(seen) / 7.f;
         // Insert into the few best, kept sorted by score.
         int i = fv.count < keep ? fv.count++ : keep;
         if (i == keep && s <= score[size_t(keep - 1)]) continue;
