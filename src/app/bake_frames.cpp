@@ -83,6 +83,7 @@ BakeFrames loadBakeFrames(const Scene& scene, const std::string& scene_path, con
   const nlohmann::json recorded = sourceOptionsOf(scene, scene_path);
   BakeFrames out;
   // The capture: --frames, else the absolute path recorded at fusion time, else the source as given then.
+  if (!o.frames.empty() && !fs::exists(o.frames)) throw Error("--frames " + o.frames + ": no such capture");
   out.capture = o.frames;
   if (out.capture.empty()) out.capture = jsonString(recorded, "path");
   if (out.capture.empty() || !fs::exists(out.capture)) out.capture = scene.meta.source;

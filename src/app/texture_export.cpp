@@ -3,6 +3,8 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
+#include <utility>
 
 #include "core/error.h"
 #include "io/image_codec.h"
@@ -49,6 +51,10 @@ void checkTextureOptions(const TextureCliOptions& o) {
   if (o.target_triangles < 0) throw Error("--target-triangles " + std::to_string(o.target_triangles) + ": expected >= 0");
   if (!(o.max_error_mm >= 0)) throw Error("--max-error-mm must be >= 0");
   if (!(o.texel_mm > 0.05f && o.texel_mm < 1000.f)) throw Error("--texel-mm must be in (0.05, 1000)");
+  // Overrides that name nothing fail before the meshing, not after it.
+  for (const auto& [option, path] : {std::pair<const char*, std::string>{"--frames", o.frames.frames},
+                                     {"--trajectory", o.frames.trajectory}, {"--labels", o.frames.labels}})
+    if (!path.empty() && !std::filesystem::exists(path)) throw Error(std::string(option) + " " + path + ": no such file or folder");
   const int s = o.max_texture_px;
   if (s < 256 || s > 8192 || (s & (s - 1)) != 0)
     throw Error("--texture-size " + std::to_string(s) + ": expected a power of two from 256 to 8192");
