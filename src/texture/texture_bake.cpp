@@ -11,6 +11,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "texture/mesh_adjacency.h"
 
 namespace vf {
 namespace {
@@ -85,6 +86,29 @@ std::vector<FaceViews> selectViews(const TriangleMesh& mesh, const std::vector<B
     }
   });
   *unseen = none.combine(std::plus<size_t>());
+  return out;
+}
+
+// Each face's candidates topped up with its edge neighbours' (their best first) to the most a
+// face keeps: neighbouring faces then blend from mostly the same frames, and the texture shows
+// no seam along every edge where the two faces' own choices differ (the views through a window
+// came out facet by facet).
+std::vector<FaceViews> shareWithNeighbours(const std::vector<FaceViews>& own,
+                                           const std::vector<std::array<int32_t, 3>>& nb) {
+  std::vector<FaceViews> out(own.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, own.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t f = r.begin(); f != r.end(); ++f) {
+      FaceViews v = own[f];
+      for (int rank = 0; rank < kMaxCandidates && v.count < kMaxCandidates; ++rank)
+        for (int32_t g : nb[f]) {
+          if (g < 0 || rank >= own[size_t(g)].count || v.count >= kMaxCandidates) continue;
+          const int32_t view = own[size_t(g)].view[size_t(rank)];
+          if (std::find(v.view.begin(), v.view.begin() + v.count, view) == v.view.begin() + v.count)
+            v.view[size_t(v.count++)] = view;
+        }
+      out[f] = v;
+    }
+  });
   return out;
 }
 
@@ -263,7 +287,8 @@ ColorImage bakeTexture(const TriangleMesh& mesh, const UvAtlas& atlas, std::vect
   if (o.views_per_face < 1 || o.blend_views < 1) throw Error("texture bake: views per face and blend views must be >= 1");
   BakeReport r;
   auto t0 = std::chrono::steady_clock::now();
-  const std::vector<FaceViews> candidates = selectViews(mesh, views, o, &r.faces_unseen);
+  const std::vector<FaceViews> candidates =
+      shareWithNeighbours(selectViews(mesh, views, o, &r.faces_unseen), edgeNeighbours(mesh));
   if (o.equalise_exposure && views.size() > 1) equaliseExposure(mesh, candidates, views, o);
   for (const BakeView& v : views) r.gains.push_back(v.gain);
   r.select_s = secondsSince(t0);
