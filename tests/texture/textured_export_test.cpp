@@ -78,6 +78,8 @@ TEST_F(TexturedDance, GlbHoldsATexturedSimplifiedMeshThatBlenderImportsUnpatched
                               status);
   ASSERT_EQ(status, 0) << out;
   EXPECT_NE(out.find("simplified"), std::string::npos) << out;
+  // The scene recorded its capture and poses at reconstruct time: the bake found them there.
+  EXPECT_NE(out.find("at the poses of the scene's metadata"), std::string::npos) << out;
   EXPECT_GT(numberAfter(out, "baked "), 100000) << out;
   // Most texels come from the frames, not from the fused colour.
   EXPECT_GT(numberAfter(out, "texels: "), 80.0) << out;
