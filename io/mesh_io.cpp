@@ -72,8 +72,15 @@ Vec3f groupColor(const TriangleMesh& mesh, const std::vector<size_t>& faces, con
 void checkMesh(const TriangleMesh& mesh, const std::string& path) {
   const size_t n = mesh.positions.size();
   if ((mesh.hasNormals() && mesh.normals.size() != n) || (mesh.hasColors() && mesh.colors.size() != n) ||
-      (mesh.hasClasses() && mesh.classes.size() != n))
+      (mesh.hasClasses() && mesh.classes.size() != n) || (mesh.hasUvs() && mesh.uvs.size() != n))
     throw Error(path + ": mesh attribute arrays differ in length from the positions");
+}
+
+void checkTexture(const TriangleMesh& mesh, const MeshWriteOptions& options, const std::string& path) {
+  if (!options.texture) return;
+  if (!mesh.hasUvs()) throw Error(path + ": a texture needs texture coordinates (uvs) on the mesh");
+  if (options.texture->extension != "jpg" && options.texture->extension != "png")
+    throw Error(path + ": texture images are jpg or png, not '" + options.texture->extension + "'");
 }
 
 }  // namespace
@@ -90,6 +97,8 @@ void writeMesh(const TriangleMesh& mesh, const std::string& path, const MeshWrit
   const MeshFormat format = meshFormatFromPath(path);
   if (mesh.triangles.empty() && format != MeshFormat::kPly)
     throw Error(path + ": a point cloud can only be written as .ply");
+  if (options.texture && format == MeshFormat::kPly)
+    throw Error(path + ": PLY carries no texture; write .glb or .obj for a textured mesh");
   switch (format) {
     case MeshFormat::kPly: return writePly(mesh, path, options.with_class_property, options.frame);
     case MeshFormat::kObj: return writeObj(mesh, path, options);
@@ -188,18 +197,36 @@ void writePly(const TriangleMesh& mesh, const std::string& path, bool with_class
   file.commit();
 }
 
+std::string objTexturePath(const std::string& obj_path, const MeshTexture& texture) {
+  return fs::path(obj_path).replace_extension("." + texture.extension).string();
+}
+
 void writeObj(const TriangleMesh& mesh, const std::string& path, const MeshWriteOptions& options) {
   const ClassTable* classes = options.classes;
   checkMesh(mesh, path);
+  checkTexture(mesh, options, path);
+  const MeshTexture* texture = options.texture;
   const fs::path target(path);
   fs::path mtl_target = target;
   mtl_target.replace_extension(".mtl");
   AtomicFile file(path), mtl_file(mtl_target.string());
+  std::optional<AtomicFile> image_file;
+  if (texture && texture->shared_file.empty()) {
+    image_file.emplace(objTexturePath(path, *texture));
+    image_file->write(texture->encoded.data(), texture->encoded.size());
+  }
   const fs::path tmp = file.tempPath(), mtl_tmp = mtl_file.tempPath();
   const auto groups = facesByClass(mesh);
   {
     std::ofstream mtl(mtl_tmp);
     for (const auto& [id, faces] : groups) {
+      if (texture) {  // the texture carries the colour; Kd white so that it is not tinted
+        const std::string image = texture->shared_file.empty()
+                                      ? fs::path(objTexturePath(path, *texture)).filename().string()
+                                      : texture->shared_file;
+        mtl << "newmtl " << groupName(classes, id) << "\nKd 1 1 1\nmap_Kd " << image << "\n\n";
+        continue;
+      }
       const Vec3f c = groupColor(mesh, faces, options, id, /*mean_of_vertices=*/true);
       mtl << "newmtl " << groupName(classes, id) << "\nKd " << c.x << " " << c.y << " " << c.z << "\n\n";
     }
@@ -210,7 +237,7 @@ void writeObj(const TriangleMesh& mesh, const std::string& path, const MeshWrite
     // Vertex colors as the common "v x y z r g b" extension (Assimp, MeshLab, Blender read it).
     for (size_t v = 0; v < mesh.positions.size(); ++v) {
       const Vec3f& q = mesh.positions[v];
-      if (mesh.hasColors()) {
+      if (mesh.hasColors() && !texture) {
         const Rgb8 c = mesh.colors[v];
         std::snprintf(line, sizeof line, "v %.6f %.6f %.6f %.4f %.4f %.4f\n", q.x, q.y, q.z, c.r / 255.f,
                       c.g / 255.f, c.b / 255.f);
@@ -223,11 +250,22 @@ void writeObj(const TriangleMesh& mesh, const std::string& path, const MeshWrite
       std::snprintf(line, sizeof line, "vn %.5f %.5f %.5f\n", n.x, n.y, n.z);
       out << line;
     }
+    if (texture)
+      for (const Vec2f& uv : mesh.uvs) {
+        std::snprintf(line, sizeof line, "vt %.7f %.7f\n", uv.x, uv.y);
+        out << line;
+      }
     for (const auto& [id, faces] : groups) {
       out << "g " << groupName(classes, id) << "\nusemtl " << groupName(classes, id) << "\n";
       for (size_t f : faces) {
         const auto& t = mesh.triangles[f];
-        if (mesh.hasNormals())
+        if (texture && mesh.hasNormals())  // uvs are per vertex: vt index = v index
+          std::snprintf(line, sizeof line, "f %d/%d/%d %d/%d/%d %d/%d/%d\n", t[0] + 1, t[0] + 1, t[0] + 1, t[1] + 1,
+                        t[1] + 1, t[1] + 1, t[2] + 1, t[2] + 1, t[2] + 1);
+        else if (texture)
+          std::snprintf(line, sizeof line, "f %d/%d %d/%d %d/%d\n", t[0] + 1, t[0] + 1, t[1] + 1, t[1] + 1, t[2] + 1,
+                        t[2] + 1);
+        else if (mesh.hasNormals())
           std::snprintf(line, sizeof line, "f %d//%d %d//%d %d//%d\n", t[0] + 1, t[0] + 1, t[1] + 1, t[1] + 1,
                         t[2] + 1, t[2] + 1);
         else
@@ -239,6 +277,7 @@ void writeObj(const TriangleMesh& mesh, const std::string& path, const MeshWrite
     mtl.close();
     if (!out || !mtl) throw Error(path + ": write failed (disk full?)");
   }
+  if (image_file) image_file->commit();
   mtl_file.commit();
   file.commit();
 }
@@ -246,8 +285,10 @@ void writeObj(const TriangleMesh& mesh, const std::string& path, const MeshWrite
 void writeGlb(const TriangleMesh& mesh, const std::string& path, const MeshWriteOptions& options) {
   const ClassTable* classes = options.classes;
   // Class colours go into the materials; COLOR_0 would multiply them by themselves.
-  const bool vertex_colors = mesh.hasColors() && !options.class_colors;
+  const MeshTexture* texture = options.texture;
+  const bool vertex_colors = mesh.hasColors() && !options.class_colors && !texture;
   checkMesh(mesh, path);
+  checkTexture(mesh, options, path);
   const auto groups = facesByClass(mesh);
   // Assimp's aiScene owns (and deletes) everything hung on it.
   aiScene scene;
@@ -257,12 +298,29 @@ void writeGlb(const TriangleMesh& mesh, const std::string& path, const MeshWrite
   scene.mMaterials = new aiMaterial*[groups.size()];
   scene.mRootNode->mNumMeshes = unsigned(groups.size());
   scene.mRootNode->mMeshes = new unsigned[groups.size()];
+  if (texture) {  // embedded ("*0"): the exporter stores it in the GLB's binary chunk
+    scene.mNumTextures = 1;
+    scene.mTextures = new aiTexture*[1];
+    auto* tex = new aiTexture();
+    tex->mWidth = unsigned(texture->encoded.size());  // compressed: width = bytes, height = 0
+    tex->mHeight = 0;
+    tex->pcData = new aiTexel[(texture->encoded.size() + sizeof(aiTexel) - 1) / sizeof(aiTexel)];
+    std::memcpy(tex->pcData, texture->encoded.data(), texture->encoded.size());
+    std::snprintf(tex->achFormatHint, sizeof tex->achFormatHint, "%s", texture->extension.c_str());
+    tex->mFilename = aiString("texture." + texture->extension);
+    scene.mTextures[0] = tex;
+  }
   unsigned m = 0;
   for (const auto& [id, faces] : groups) {
     auto* material = new aiMaterial();
     const aiString name(groupName(classes, id));
     material->AddProperty(&name, AI_MATKEY_NAME);
-    const Vec3f c = groupColor(mesh, faces, options, id, /*mean_of_vertices=*/false);
+    if (texture) {
+      const aiString embedded("*0");
+      material->AddProperty(&embedded, AI_MATKEY_TEXTURE(aiTextureType_BASE_COLOR, 0));
+      material->AddProperty(&embedded, AI_MATKEY_TEXTURE(aiTextureType_DIFFUSE, 0));
+    }
+    const Vec3f c = texture ? Vec3f{1, 1, 1} : groupColor(mesh, faces, options, id, /*mean_of_vertices=*/false);
     const aiColor4D base(c.x, c.y, c.z, 1.f);
     material->AddProperty(&base, 1, AI_MATKEY_COLOR_DIFFUSE);
     material->AddProperty(&base, 1, AI_MATKEY_BASE_COLOR);
@@ -286,6 +344,10 @@ void writeGlb(const TriangleMesh& mesh, const std::string& path, const MeshWrite
     am->mVertices = new aiVector3D[used.size()];
     if (mesh.hasNormals()) am->mNormals = new aiVector3D[used.size()];
     if (vertex_colors) am->mColors[0] = new aiColor4D[used.size()];
+    if (texture) {
+      am->mTextureCoords[0] = new aiVector3D[used.size()];
+      am->mNumUVComponents[0] = 2;
+    }
     for (size_t i = 0; i < used.size(); ++i) {
       const Vec3f& p = mesh.positions[used[i]];
       am->mVertices[i] = aiVector3D(p.x, p.y, p.z);
@@ -293,6 +355,7 @@ void writeGlb(const TriangleMesh& mesh, const std::string& path, const MeshWrite
         const Vec3f& n = mesh.normals[used[i]];
         am->mNormals[i] = aiVector3D(n.x, n.y, n.z);
       }
+      if (texture) am->mTextureCoords[0][i] = aiVector3D(mesh.uvs[used[i]].x, mesh.uvs[used[i]].y, 0.f);
       if (vertex_colors) {  // glTF: COLOR_0 is linear
         const Vec3f col = srgb8ToLinear(mesh.colors[used[i]]);
         am->mColors[0][i] = aiColor4D(col.x, col.y, col.z, 1.f);

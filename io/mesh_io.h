@@ -28,6 +28,15 @@ struct MeshFrame {
 // From the extension (.ply / .obj / .glb, any case); throws vf::Error naming the path otherwise.
 MeshFormat meshFormatFromPath(const std::string& path);
 
+// An encoded texture image that the mesh's uvs index (mesh.uvs): JPEG or PNG file bytes.
+struct MeshTexture {
+  std::string encoded;
+  std::string extension;  // "jpg" or "png"
+  // OBJ: name this image file (beside the OBJ, written by the caller once for several meshes)
+  // instead of writing <stem>.<extension>.
+  std::string shared_file;
+};
+
 struct MeshWriteOptions {
   bool with_class_property = false;  // PLY: an `int class` vertex property (needs mesh.classes)
   const ClassTable* classes = nullptr;  // OBJ/GLB: group/material names and colors per class
@@ -37,7 +46,14 @@ struct MeshWriteOptions {
   // Blender's OBJ importer wires into the material).
   bool class_colors = false;
   std::optional<MeshFrame> frame;  // PLY: recorded in the header
+  // OBJ/GLB, with mesh.uvs: the base colour texture (GLB: embedded; OBJ: written beside it as
+  // <stem>.<extension>, named by map_Kd). Vertex colours are then left out (glTF multiplies
+  // COLOR_0 into the texture) and materials are white.
+  const MeshTexture* texture = nullptr;
 };
+
+// The image file an OBJ with `texture` is written with: <path's stem>.<extension>.
+std::string objTexturePath(const std::string& obj_path, const MeshTexture& texture);
 
 // Writes by extension. A mesh without triangles is written as a point cloud (PLY only).
 void writeMesh(const TriangleMesh& mesh, const std::string& path, const MeshWriteOptions& options = {});

@@ -70,7 +70,7 @@ Trajectory readTumTrajectory(const std::string& path) {
   return parseTumTrajectory(readRegularFile(path, "trajectory file", kMaxTextFileBytes), path);
 }
 
-void writeTumTrajectory(const std::string& path, const Trajectory& trajectory) {
+std::string formatTumTrajectory(const Trajectory& trajectory) {
   std::string out = "# timestamp tx ty tz qx qy qz qw (camera-to-world, TUM format)\n";
   char line[256];
   for (const StampedPose& p : trajectory) {
@@ -82,7 +82,11 @@ void writeTumTrajectory(const std::string& path, const Trajectory& trajectory) {
                   t.z(), q.x(), q.y(), q.z(), q.w());
     out += line;
   }
-  writeFileAtomic(path, out);
+  return out;
+}
+
+void writeTumTrajectory(const std::string& path, const Trajectory& trajectory) {
+  writeFileAtomic(path, formatTumTrajectory(trajectory));
 }
 
 }  // namespace vf

@@ -18,5 +18,7 @@ Trajectory parseTumTrajectory(const std::string& text, const std::string& source
 // Writes atomically (temp file + rename): timestamps with 6 decimals (microseconds, as TUM),
 // translations and quaternions with 9, so a round trip loses nothing a float pose holds.
 void writeTumTrajectory(const std::string& path, const Trajectory& trajectory);
+// The text writeTumTrajectory writes (a scene records it in its metadata).
+std::string formatTumTrajectory(const Trajectory& trajectory);
 
 }  // namespace vf

@@ -16,6 +16,9 @@ Options after `--`:
                             lies just behind the surfaces; its collection is there to switch on),
                             with the meshes (show) or instead of them (only)
 
+A textured export (`--texture`: OBJ/GLB with a baked image, or a folder whose scene.json names
+`texture`) gets materials showing that image instead of the vertex colours.
+
 What it builds: nothing of Blender's start-up scene; one collection per class ("class <name>")
 holding that class's mesh with a material that shows its vertex colours; a "volume" collection
 with the fog volume (density scaled from the grid's range, scattering and glowing with its
@@ -74,12 +77,9 @@ def import_mesh_file(path):
         else:
             bpy.ops.import_scene.obj(filepath=path)
     elif ext in (".glb", ".gltf"):
-        # Debian 12 pairs Blender 3.4, whose glTF importer still says np.bool, with numpy 1.24,
-        # which removed that alias: every glTF import fails there. Restore the alias.
-        import numpy
-        if not hasattr(numpy, "bool"):
-            numpy.bool = bool
-        bpy.ops.import_scene.gltf(filepath=path)
+        # Shading "Smooth": Debian 12's Blender 3.4 add-on says np.bool (gone from numpy 1.24) on
+        # its default "Use Normal Data" path for every mesh; "Smooth" never reaches that line.
+        bpy.ops.import_scene.gltf(filepath=path, import_shading="SMOOTH")
     else:
         raise SystemExit("import_scene.py: unsupported file " + path)
     return [o for o in bpy.data.objects if o not in before and o.type == "MESH"]
@@ -108,6 +108,28 @@ def vertex_color_material(name, attribute, fallback_rgb=(0.8, 0.8, 0.8)):
     else:
         bsdf.inputs["Base Color"].default_value = (*fallback_rgb, 1.0)
     return mat
+
+
+def texture_material(name, image):
+    """Principled BSDF whose Base Color is the baked texture (vdbfuse export --texture)."""
+    mat = bpy.data.materials.new(name)
+    mat.use_nodes = True
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    bsdf = nodes.get("Principled BSDF")
+    bsdf.inputs["Roughness"].default_value = 1.0
+    bsdf.inputs["Specular"].default_value = 0.2
+    tex = nodes.new("ShaderNodeTexImage")
+    tex.image = image
+    tex.interpolation = "Linear"
+    links.new(tex.outputs["Color"], bsdf.inputs["Base Color"])
+    return mat
+
+
+def has_image_texture(obj):
+    for mat in obj.data.materials:
+        if mat and mat.use_nodes and any(n.type == "TEX_IMAGE" and n.image for n in mat.node_tree.nodes):
+            return True
+    return False
 
 
 def volume_material(name, density):
@@ -248,6 +270,10 @@ def import_export_folder(folder, root, args):
     with open(os.path.join(folder, "scene.json")) as f:
         manifest = json.load(f)
     meshes = []
+    # A textured export: every class's OBJ shares one baked image.
+    image = None
+    if manifest.get("texture"):
+        image = bpy.data.images.load(os.path.join(folder, manifest["texture"]), check_existing=True)
     for entry in manifest["meshes"]:
         objs = import_mesh_file(os.path.join(folder, entry["file"]))
         if len(objs) != 1:
@@ -256,7 +282,10 @@ def import_export_folder(folder, root, args):
         obj.name = entry["name"]
         move_to(obj, new_collection("class " + entry["name"], root))
         obj.data.materials.clear()
-        obj.data.materials.append(vertex_color_material(entry["name"], color_attribute_name(obj.data)))
+        if image is not None:
+            obj.data.materials.append(texture_material(entry["name"], image))
+        else:
+            obj.data.materials.append(vertex_color_material(entry["name"], color_attribute_name(obj.data)))
         print("vdbfuse: mesh %s vertices %d faces %d" % (obj.name, len(obj.data.vertices), len(obj.data.polygons)))
         meshes.append(obj)
 
@@ -291,7 +320,7 @@ def import_single_file(path, root, args):
         attribute = color_attribute_name(obj.data)
         # OBJ and PLY: the importers leave the vertex colours out of the material (OBJ's uses Kd).
         # glTF: the importer already multiplies COLOR_0 by the base colour; keep its material.
-        if keep:
+        if keep or has_image_texture(obj):  # a textured mesh: the importer wired its image
             pass
         elif os.path.splitext(path)[1].lower() not in (".glb", ".gltf") or not obj.data.materials:
             obj.data.materials.clear()

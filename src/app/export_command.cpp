@@ -11,6 +11,7 @@
 #include "app/command_registry.h"
 #include "app/output_policy.h"
 #include "app/scene_axes.h"
+#include "app/texture_export.h"
 #include "core/error.h"
 #include "core/atomic_output.h"
 #include "io/image_io.h"
@@ -29,6 +30,7 @@ struct ExportOptions {
   std::string scene, output, color = "rgb", axes;
   bool blender = false, points = false, force = false;
   float min_weight = 0;
+  TextureCliOptions texture;
 };
 
 std::string jsonEscape(const std::string& s) {
@@ -46,14 +48,41 @@ std::string jsonVec(Vec3f v) {
   return text;
 }
 
+// a * b: b first, then a.
+Rigid3f composeRigid(const Rigid3f& a, const Rigid3f& b) {
+  Rigid3f out;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      out.r[i * 3 + j] = a.r[i * 3] * b.r[j] + a.r[i * 3 + 1] * b.r[3 + j] + a.r[i * 3 + 2] * b.r[6 + j];
+  out.t = a * b.t;
+  return out;
+}
+
 void exportBlender(Scene& scene, const ExportOptions& o) {
   const SceneAxes axes = axesFor(o.axes, MeshFormat::kPly);
   const Rigid3f to_file = exportRotationFor(scene, o.scene, axes);
+  // Textured meshes go as OBJ, which Blender's importer turns from Y-up into its Z-up: written
+  // y-up, they land where the z-up volume and PLYs do.
+  if (o.texture.texture && axes != SceneAxes::kZUp)
+    throw Error("--texture in a Blender folder: the OBJ meshes need the default --axes z-up");
+  const Rigid3f obj_from_file = o.texture.texture
+                                    ? composeRigid(exportRotationFor(scene, o.scene, SceneAxes::kYUp), to_file.inverse())
+                                    : Rigid3f::identity();
   // Written whole into a temporary folder beside the output, which replaces the old one at the end.
   AtomicFolder folder(o.output);
   MeshOptions options;
   options.min_weight = o.min_weight;
   TriangleMesh mesh = meshScene(scene, options);
+  simplifyIfAsked(mesh, o.texture);
+  // Textured: one atlas for the whole surface, baked in the scene's frame; each class's mesh is
+  // an OBJ naming the one texture image.
+  TexturedMesh textured;
+  if (o.texture.texture) {
+    textured = bakeTexturedMesh(scene, o.scene, mesh, {}, o.texture);
+    mesh = std::move(textured.mesh);
+    textured.texture.shared_file = "texture." + textured.texture.extension;
+    writeFileAtomic(folder.file(textured.texture.shared_file), textured.texture.encoded);
+  }
   transformMesh(mesh, to_file);
   Vec3f lo{0, 0, 0}, hi{0, 0, 0};
   for (size_t i = 0; i < mesh.positions.size(); ++i) {
@@ -72,8 +101,16 @@ void exportBlender(Scene& scene, const ExportOptions& o) {
   const std::map<int32_t, std::string> stems = uniqueClassFileStems(scene.meta.classes, ids);
   for (const auto& [id, part] : parts) {
     const std::string stem = scene.hasClasses() ? stems.at(id) : "surface";
-    const std::string file = stem + ".ply";
-    writePly(part, folder.file(file), false, MeshFrame{sceneAxesName(axes), to_file});
+    const std::string file = stem + (o.texture.texture ? ".obj" : ".ply");
+    if (o.texture.texture) {
+      MeshWriteOptions write;
+      write.texture = &textured.texture;
+      TriangleMesh y_up = part;
+      transformMesh(y_up, obj_from_file);
+      writeObj(y_up, folder.file(file), write);  // its .mtl beside it, naming the texture
+    } else {
+      writePly(part, folder.file(file), false, MeshFrame{sceneAxesName(axes), to_file});
+    }
     const ClassInfo* info = scene.meta.classes.findId(id);
     const Rgb8 c = classColorOf(scene.meta.classes, id);
     manifest += std::string(first ? "" : ",\n") + "    {\"file\": \"" + jsonEscape(file) + "\", \"class_id\": " +
@@ -96,6 +133,9 @@ void exportBlender(Scene& scene, const ExportOptions& o) {
                 "  \"voxel_size_m\": %.6g,\n  \"density_range\": [%.6g, %.6g],\n  \"density_band_m\": %.6g,\n",
                 m.voxel_size_m, volume.density_min, volume.density_max, volume.band_m);
   manifest += "\n  ],\n  \"volume\": \"volume.vdb\",\n" + std::string(numbers);
+  if (o.texture.texture)
+    manifest += "  \"texture\": \"" + jsonEscape(textured.texture.shared_file) + "\",\n  \"texture_px\": " +
+                std::to_string(textured.page_px) + ",\n";
   // How the files map back to the scene: p_file = rotation * p_scene (rows).
   manifest += "  \"axes\": \"" + std::string(sceneAxesName(axes)) + "\",\n  \"up_source\": \"" +
               jsonEscape(axes == SceneAxes::kCamera ? "" : m.up_source) + "\",\n  \"rotation\": [" +
@@ -122,6 +162,9 @@ void exportBlenderNamingTarget(Scene& scene, const ExportOptions& o) {
 
 void runExport(const ExportOptions& o) {
   if (o.blender == o.points) throw Error("export: choose exactly one of --blender and --points");
+  checkTextureOptions(o.texture);
+  if (!o.blender && (o.texture.texture || o.texture.target_triangles > 0))
+    throw Error("--texture and --target-triangles go with --blender (a point cloud has no triangles)");
   if (!o.axes.empty()) parseSceneAxes(o.axes);
   OutputPolicy outputs(o.force);
   outputs.input(o.scene);
@@ -160,6 +203,8 @@ void setupExportCommand(CLI::App& root) {
   cmd->add_option("--min-weight", o->min_weight, "treat voxels observed fewer times as unobserved");
   cmd->add_option("--axes", o->axes, "frame of the files: camera (as fused), z-up (default: Blender, PLY) or y-up")
       ->check(CLI::IsMember({"camera", "z-up", "y-up"}));
+  addSimplifyOptions(*cmd, o->texture);
+  addTextureOptions(*cmd, o->texture);
   cmd->callback([o] { runExport(*o); });
 }
 

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <cstdint>
 #include <map>
+#include <set>
 #include <memory>
 #include <string>
 #include <vector>
@@ -11,6 +12,7 @@
 #include "app/command_registry.h"
 #include "app/output_policy.h"
 #include "app/scene_axes.h"
+#include "app/texture_export.h"
 #include "core/atomic_output.h"
 #include "core/error.h"
 #include "io/mesh_io.h"
@@ -28,15 +30,20 @@ struct MeshCommandOptions {
   std::vector<std::string> include, exclude;
   bool per_class = false, with_class_property = false, force = false;
   int64_t min_component = 0;
+  TextureCliOptions texture;
 };
 
 namespace fs = std::filesystem;
 
-// Claims `path` and, for OBJ, the material library written beside it.
-void claimMeshFile(OutputPolicy& outputs, const std::string& path, const std::string& option) {
+// Claims `path` and, for OBJ, the material library (and texture image) written beside it.
+void claimMeshFile(OutputPolicy& outputs, const std::string& path, const std::string& option,
+                   const std::string& texture_extension = "") {
   outputs.file(path, option);
-  if (meshFormatFromPath(path) == MeshFormat::kObj)
+  if (meshFormatFromPath(path) == MeshFormat::kObj) {
     outputs.file(fs::path(path).replace_extension(".mtl").string(), option + " (its .mtl)");
+    if (!texture_extension.empty())
+      outputs.file(fs::path(path).replace_extension("." + texture_extension).string(), option + " (its texture)");
+  }
 }
 
 // Removes the pieces of `mesh` under min_component triangles and says how many went.
@@ -57,9 +64,14 @@ void runMesh(const MeshCommandOptions& o) {
     throw Error("--include-classes and --exclude-classes cannot be combined");
   if (o.min_component < 0) throw Error("--min-component " + std::to_string(o.min_component) + ": expected triangles >= 0");
   const SceneAxes axes = axesFor(o.axes, meshFormatFromPath(o.output));  // bad values fail before the work
+  checkTextureOptions(o.texture);
+  if (o.texture.texture && meshFormatFromPath(o.output) == MeshFormat::kPly)
+    throw Error("--texture: PLY carries no texture; write .glb or .obj");
+  if (o.texture.texture && o.per_class) throw Error("--texture and --per-class cannot be combined (one atlas per mesh)");
+  if (o.texture.texture && o.color == "class") throw Error("--texture and --color class cannot be combined");
   OutputPolicy outputs(o.force);
   outputs.input(o.scene);
-  if (!o.per_class) claimMeshFile(outputs, o.output, "-o");
+  if (!o.per_class) claimMeshFile(outputs, o.output, "-o", o.texture.texture ? o.texture.image_format : "");
   Scene scene = readScene(o.scene);
   MeshOptions options;
   options.min_weight = o.min_weight;
@@ -85,6 +97,13 @@ void runMesh(const MeshCommandOptions& o) {
   // surface spans several classes, and its part in one class can be a sliver.
   if (o.min_component > 1 && !o.per_class) dropSmallPieces(mesh, size_t(o.min_component), "");
   if (mesh.triangles.empty()) throw Error(o.output + ": nothing left to write (empty mesh)");
+  simplifyIfAsked(mesh, o.texture);
+  // Baked in the scene's frame, where the frames' poses are; the uvs do not change when rotated.
+  TexturedMesh textured;
+  if (o.texture.texture) {
+    textured = bakeTexturedMesh(scene, o.scene, mesh, include ? std::set<int>{} : ids, o.texture);
+    mesh = std::move(textured.mesh);
+  }
   const Rigid3f to_file = exportRotationFor(scene, o.scene, axes);
   transformMesh(mesh, to_file);
   std::printf("axes %s (up from %s)\n", sceneAxesName(axes),
@@ -94,6 +113,7 @@ void runMesh(const MeshCommandOptions& o) {
   write.with_class_property = o.with_class_property;
   write.class_colors = options.color == MeshColorMode::kClass;
   write.frame = MeshFrame{sceneAxesName(axes), to_file};
+  if (o.texture.texture) write.texture = &textured.texture;
   if (!o.per_class) {
     writeMesh(mesh, o.output, write);
     std::printf("wrote %s: %zu triangles (%.2f s)\n", o.output.c_str(), mesh.triangleCount(), secondsSince(t0));
@@ -158,6 +178,8 @@ void setupMeshCommand(CLI::App& root) {
       ->capture_default_str();
   cmd->add_flag("--with-class-property", o->with_class_property, "PLY: add an int `class` vertex property");
   cmd->add_option("--axes", o->axes, kAxesHelp)->check(CLI::IsMember({"camera", "z-up", "y-up"}));
+  addSimplifyOptions(*cmd, o->texture);
+  addTextureOptions(*cmd, o->texture);
   cmd->callback([o] { runMesh(*o); });
 }
 

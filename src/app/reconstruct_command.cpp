@@ -21,6 +21,7 @@
 #include "core/version.h"
 #include "slam/reconstruction.h"
 #include "io/trajectory_io.h"
+#include <nlohmann/json.hpp>
 #include "vdb/scene.h"
 #include "vdb/scene_frame.h"
 
@@ -52,6 +53,26 @@ std::string nothingFusedMessage(const ReconstructOptions& o, const Reconstructio
   if (example && example->reason == LostReason::OutOfReach)
     message += ". The recorded poses are far from their origin; --poses icp tracks from the first frame instead";
   return message + "; no scene was written";
+}
+
+// How to open the source again for a texture bake (app/bake_frames.h), with absolute paths so
+// that the bake may run from another folder.
+std::string bakeSourceJson(const ReconstructOptions& o, const ReconstructionOptions& fusion) {
+  namespace fs = std::filesystem;
+  nlohmann::json j;
+  j["path"] = fs::absolute(o.dataset).lexically_normal().string();
+  j["format"] = o.source.format;
+  if (!o.intrinsics.empty()) j["intrinsics"] = o.intrinsics;
+  else if (o.source.intrinsics) j["intrinsics"] = *o.source.intrinsics;
+  if (o.source.depth_units_per_metre) j["depth_units_per_metre"] = *o.source.depth_units_per_metre;
+  j["min_confidence"] = o.source.min_confidence;
+  if (!o.labels_dir.empty()) {
+    j["labels"] = fs::absolute(o.labels_dir).lexically_normal().string();
+    j["labels_missing"] = o.labels_missing;
+    if (!o.classes_file.empty()) j["classes_file"] = fs::absolute(o.classes_file).lexically_normal().string();
+  }
+  j["dynamic_classes"] = fusion.dynamic_class_ids;
+  return j.dump();
 }
 
 void runReconstruct(const ReconstructOptions& o) {
@@ -95,6 +116,7 @@ void runReconstruct(const ReconstructOptions& o) {
   meta.source = o.dataset;
   meta.software_version = VDBFUSE_VERSION_STRING;
   if (labeled) meta.classes = labeled->classes();
+  meta.source_options_json = bakeSourceJson(o, fusion);
   // Trajectory and scene of the frames done (and the checkpoint), each written atomically. The
   // scene records gravity's up and the camera for its exports (vdb/scene_frame.h).
   struct Written {
@@ -106,6 +128,7 @@ void runReconstruct(const ReconstructOptions& o) {
     Written w;
     if (!o.output.empty()) {
       meta.frame_count = run.framesFused();
+      meta.trajectory_tum = formatTumTrajectory(run.trajectory());  // what a texture bake needs
       // Straight from the bricks: the scene's grids in memory would take twice the bricks' memory.
       const BrickVolumeView bricks = run.pipeline().hostVolume();  // one download on CUDA
       w.up = setSceneFrame(meta, bricks, run.trajectory(), *source);

@@ -43,6 +43,7 @@ TriangleMesh selectFaces(const TriangleMesh& mesh, const std::vector<bool>& keep
     if (mesh.hasNormals()) out.normals.push_back(mesh.normals[v]);
     if (mesh.hasColors()) out.colors.push_back(mesh.colors[v]);
     if (mesh.hasClasses()) out.classes.push_back(mesh.classes[v]);
+    if (mesh.hasUvs()) out.uvs.push_back(mesh.uvs[v]);  // a textured export's per-class split
   }
   for (auto& t : out.triangles)
     for (int32_t& v : t) v = remap[v];

@@ -30,6 +30,11 @@ struct SceneMetadata {
   Vec3f forward_world{0, 0, 0};
   std::string up_source;
   Intrinsics depth_intrinsics;    // of the fused frames (frame cameras' field of view); fx = 0: unknown
+  // What a texture bake needs to find the frames again (app/bake_frames.h): the fused frames'
+  // poses as TUM text, and how the source was opened (JSON: format, depth scale, intrinsics,
+  // label folder, dynamic classes). Empty in scenes written before they were recorded.
+  std::string trajectory_tum;
+  std::string source_options_json;
 };
 
 // Grid names in the file (DESIGN.md table).

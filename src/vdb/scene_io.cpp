@@ -33,6 +33,8 @@ constexpr const char* kMetaForward = "vdbfuse_forward";
 constexpr const char* kMetaUpSource = "vdbfuse_up_source";
 constexpr const char* kMetaIntrinsics = "vdbfuse_depth_fx_fy_cx_cy";
 constexpr const char* kMetaImageSize = "vdbfuse_depth_width_height";
+constexpr const char* kMetaTrajectory = "vdbfuse_trajectory_tum";
+constexpr const char* kMetaSourceOptions = "vdbfuse_source_options";
 
 // Up, heading and camera: written only when known, checked when read (a file is outside data).
 void writeFrameMeta(const SceneMetadata& m, openvdb::MetaMap& meta) {
@@ -128,6 +130,8 @@ openvdb::MetaMap sceneFileMetadata(const SceneMetadata& m) {
   meta.insertMeta(kMetaVersion, openvdb::StringMetadata(m.software_version.empty() ? std::string(VDBFUSE_VERSION_STRING)
                                                                                    : m.software_version));
   writeFrameMeta(m, meta);
+  if (!m.trajectory_tum.empty()) meta.insertMeta(kMetaTrajectory, openvdb::StringMetadata(m.trajectory_tum));
+  if (!m.source_options_json.empty()) meta.insertMeta(kMetaSourceOptions, openvdb::StringMetadata(m.source_options_json));
   return meta;
 }
 
@@ -195,6 +199,8 @@ SceneMetadata sceneMetadataFromFile(const openvdb::MetaMap& meta, const openvdb:
   if (auto v = meta.getMetadata<openvdb::Int32Metadata>(kMetaFrameCount)) m.frame_count = v->value();
   if (auto v = meta.getMetadata<openvdb::StringMetadata>(kMetaVersion)) m.software_version = v->value();
   readFrameMeta(meta, m, path);
+  if (auto v = meta.getMetadata<openvdb::StringMetadata>(kMetaTrajectory)) m.trajectory_tum = v->value();
+  if (auto v = meta.getMetadata<openvdb::StringMetadata>(kMetaSourceOptions)) m.source_options_json = v->value();
   if (!(std::isfinite(m.voxel_size_m) && std::fabs(m.voxel_size_m - float(grid_voxel_m)) <= 1e-4f * m.voxel_size_m))
     throw Error(path + ": metadata voxel size " + std::to_string(m.voxel_size_m) + " m contradicts the grid's " +
                 std::to_string(grid_voxel_m) + " m (a damaged or crafted file)");
