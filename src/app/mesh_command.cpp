@@ -11,6 +11,7 @@
 
 #include "app/command_registry.h"
 #include "app/output_policy.h"
+#include "app/progress.h"
 #include "app/scene_axes.h"
 #include "app/texture_export.h"
 #include "core/atomic_output.h"
@@ -52,10 +53,6 @@ void dropSmallPieces(TriangleMesh& mesh, size_t min_component, const std::string
   const size_t removed = removeSmallComponents(mesh, min_component);
   std::printf("%sremoved %zu triangles in %zu of %zu pieces (those under %zu triangles)\n", prefix.c_str(), removed,
               before.small, before.pieces, min_component);
-}
-
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 void runMesh(const MeshCommandOptions& o) {

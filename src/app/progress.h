@@ -22,6 +22,11 @@ class ProgressBar {
   std::chrono::steady_clock::time_point start_;
 };
 
+// Seconds from t0 to now, for the times commands print.
+inline double secondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
 // "0:41", "12:05", "1:02:09": a duration the way a clock shows it.
 std::string clockDuration(double seconds);
 // The time left at a constant rate; empty while too little is done for the rate to mean anything.

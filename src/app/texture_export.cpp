@@ -1,6 +1,8 @@
 // Simplify, chart, bake, encode: the textured-mesh path of `mesh` and `export --blender`.
 #include "app/texture_export.h"
 
+#include "app/progress.h"
+
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -13,13 +15,6 @@
 #include "texture/uv_atlas.h"
 
 namespace vf::app {
-namespace {
-
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-}  // namespace
 
 void addSimplifyOptions(CLI::App& cmd, TextureCliOptions& o) {
   cmd.add_option("--target-triangles", o.target_triangles,
