@@ -62,8 +62,18 @@ inline int xvfbExitStatus(const std::string& output) {
   return at == std::string::npos ? -1 : std::atoi(output.c_str() + at + 8);
 }
 
+// A fresh folder for one test's files, /tmp/vdbfuse_test_<build hash>_NAME: two builds' suites
+// running on one machine (a developer's and CI's, two worktrees) never empty each other's
+// folders mid-test, and a build reuses its own folders run after run, so nothing piles up.
 inline std::string tempDir(const std::string& name) {
-  auto dir = std::filesystem::temp_directory_path() / ("vdbfuse_test_" + name);
+  std::string prefix = "vdbfuse_test_";
+#ifdef VDBFUSE_BINARY_DIR
+  const std::string build_dir = VDBFUSE_BINARY_DIR;
+  char hash[32];
+  std::snprintf(hash, sizeof hash, "%08zx_", std::hash<std::string>{}(build_dir) & 0xffffffffu);
+  prefix += hash;
+#endif
+  auto dir = std::filesystem::temp_directory_path() / (prefix + name);
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir.string();

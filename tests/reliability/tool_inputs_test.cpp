@@ -67,9 +67,9 @@ TEST(ToolInputs, EvaluateMeshOfOneTriangleRepeatedEndsInSeconds) {
   for (int i = 0; i < 5000; ++i) corners.insert(corners.end(), {{0, 0, 1}, {1, 0, 1}, {0, 1, 1}});
   writePlyTriangles(dir + "/repeated.ply", corners);
   const CliRun run = runVdbfuse({"evaluate", "--mesh", dir + "/repeated.ply", "--reference", dir + "/repeated.ply"},
-                                0, /*timeout_s=*/60);
-  ASSERT_EQ(run.status, 0) << "(137: killed after 60 s) " << run.output;
-  EXPECT_LT(run.seconds, 30) << run.output;
+                                0, /*timeout_s=*/180);
+  ASSERT_EQ(run.status, 0) << "(137: killed after 180 s) " << run.output;
+  EXPECT_LT(run.cpu_seconds, 30) << run.output;  // CPU: a loaded machine stretches the wall time
   EXPECT_NE(run.output.find("F-score@5cm  1.0000"), std::string::npos) << run.output;
 }
 
