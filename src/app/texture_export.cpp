@@ -1,13 +1,14 @@
 // Simplify, chart, bake, encode: the textured-mesh path of `mesh` and `export --blender`.
 #include "app/texture_export.h"
 
-#include "app/progress.h"
+#include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <utility>
 
+#include "app/progress.h"
 #include "core/error.h"
 #include "io/image_codec.h"
 #include "texture/mesh_simplify.h"
@@ -85,7 +86,13 @@ TexturedMesh bakeTexturedMesh(const Scene& scene, const std::string& scene_path,
               atlas.page_px, atlas.texel_m * 1000.f, secondsSince(t0));
   t0 = std::chrono::steady_clock::now();
   BakeReport report;
-  const ColorImage page = bakeTexture(mesh, atlas, frames.views, BakeOptions{}, &report);
+  BakeOptions bake_options;
+  // The bake is the long part of a textured export: a progress bar with its ETA on a terminal
+  // (logs get the step's time below instead).
+  ProgressBar progress(int(mesh.triangleCount()), isatty(STDERR_FILENO) != 0, "faces");
+  bake_options.on_progress = [&](size_t done, size_t) { progress.update(int(done)); };
+  const ColorImage page = bakeTexture(mesh, atlas, frames.views, bake_options, &report);
+  progress.finish();
   std::printf("baked %zu texels: %.1f %% from frames, %.1f %% from the fused colour (%.2f s: views %.2f, texels %.2f, gutters %.2f)\n",
               report.texels, 100.0 * double(report.from_frames) / double(std::max<size_t>(report.texels, 1)),
               100.0 * double(report.from_fallback) / double(std::max<size_t>(report.texels, 1)), secondsSince(t0),

@@ -7,7 +7,9 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
+#include <mutex>
 #include <cmath>
 
 #include "core/error.h"
@@ -299,8 +301,17 @@ ColorImage bakeTexture(const TriangleMesh& mesh, const UvAtlas& atlas, std::vect
   // Faces of each chart (counting sort), charts baked in parallel: each owns its rectangle.
   std::vector<std::vector<int32_t>> chart_faces(atlas.charts.size());
   for (size_t f = 0; f < atlas.face_chart.size(); ++f) chart_faces[size_t(atlas.face_chart[f])].push_back(int32_t(f));
+  std::atomic<size_t> faces_done{0};
+  std::mutex progress_lock;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, atlas.charts.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t c = r.begin(); c != r.end(); ++c) bakeChart(mesh, atlas, chart_faces[c], views, candidates, o, page, state);
+    for (size_t c = r.begin(); c != r.end(); ++c) {
+      bakeChart(mesh, atlas, chart_faces[c], views, candidates, o, page, state);
+      const size_t done = faces_done += chart_faces[c].size();
+      if (o.on_progress && progress_lock.try_lock()) {
+        o.on_progress(done, mesh.triangleCount());
+        progress_lock.unlock();
+      }
+    }
   });
   r.bake_s = secondsSince(t0);
   t0 = std::chrono::steady_clock::now();

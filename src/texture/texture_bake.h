@@ -4,12 +4,14 @@
 // see its point unoccluded and unmasked, blended; texels no frame saw take the mesh's vertex
 // colours (the fused voxel colour); finally chart colours spill into the gutters.
 #include <cstddef>
+#include <functional>
 #include <vector>
 
 #include "core/image.h"
 #include "core/mesh.h"
 #include "texture/bake_view.h"
 #include "texture/uv_atlas.h"
+#include <functional>
 
 namespace vf {
 
@@ -18,6 +20,9 @@ struct BakeOptions {
   int views_per_face = 6;  // candidate frames kept per face
   int blend_views = 3;     // a texel blends at most this many of them, the best weighted
   bool equalise_exposure = true;  // per-frame colour gains that make overlapping frames agree
+  // Called now and then with the faces baked so far and their total, from one thread at a time
+  // (whichever worker finished a chart; calls that would wait for another are skipped).
+  std::function<void(size_t done, size_t total)> on_progress;
 };
 
 struct BakeReport {
