@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "app/command_registry.h"
@@ -39,7 +40,14 @@ void runTrajectoryEvaluation(const EvaluateOptions& o) {
   requirePlausiblePositions(estimate, o.trajectory);
   requirePlausiblePositions(ground_truth, gt_path);
   const AteResult ate = computeAte(estimate, ground_truth);
-  const RpeResult rpe = computeRpe(estimate, ground_truth, o.delta_frames);
+  // A short run (a few frames) still gets its ATE; the RPE then says why it has no figure.
+  std::optional<RpeResult> rpe;
+  std::string no_rpe;
+  try {
+    rpe = computeRpe(estimate, ground_truth, o.delta_frames);
+  } catch (const Error& e) {
+    no_rpe = e.what();
+  }
 
   std::printf("trajectory   %s (%zu poses)\n", o.trajectory.c_str(), estimate.size());
   std::printf("groundtruth  %s (%zu poses)\n\n", gt_path.c_str(), ground_truth.size());
@@ -48,9 +56,13 @@ void runTrajectoryEvaluation(const EvaluateOptions& o) {
   printRow("mean", ate.mean_m * 100, "cm");
   printRow("median", ate.median_m * 100, "cm");
   printRow("max", ate.max_m * 100, "cm");
-  std::printf("\nRPE, delta %d frame%s, %d pairs\n", rpe.delta_frames, rpe.delta_frames == 1 ? "" : "s", rpe.pairs);
-  printRow("trans", rpe.trans_rmse_m * 100, "cm   (rmse)");
-  printRow("rot", rpe.rot_rmse_deg, "deg  (rmse)");
+  if (!rpe) {
+    std::printf("\nRPE: none (%s)\n", no_rpe.c_str());
+    return;
+  }
+  std::printf("\nRPE, delta %d frame%s, %d pairs\n", rpe->delta_frames, rpe->delta_frames == 1 ? "" : "s", rpe->pairs);
+  printRow("trans", rpe->trans_rmse_m * 100, "cm   (rmse)");
+  printRow("rot", rpe->rot_rmse_deg, "deg  (rmse)");
 }
 
 void runEvaluate(EvaluateOptions o) {

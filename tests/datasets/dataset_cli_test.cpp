@@ -184,6 +184,17 @@ TEST(DatasetCli, UnzippedRecord3dFolderIsDetected) {
   const std::string log = run("reconstruct " + dir + " --poses given -o " + dir + "_s.vdb" + kSmall, status);
   ASSERT_EQ(status, 0) << log;
   EXPECT_EQ(readTumTrajectory(dir + "_s.txt").size(), 3u);
+  // Issue 37 item 2: evaluate scores against the phone's (ARKit) poses, from the capture itself
+  // and from its unzipped folder; the run used those poses, so the error is nil.
+  for (const std::string& truth : {capture, dir}) {
+    SCOPED_TRACE(truth);
+    const std::string eval = run("evaluate -t " + dir + "_s.txt -g " + truth, status);
+    ASSERT_EQ(status, 0) << eval;
+    EXPECT_LT(figure(eval, "rmse"), 0.001) << eval;  // cm
+    EXPECT_NE(eval.find("3 pairs"), std::string::npos) << eval;
+    // Three frames give two RPE pairs: the ATE stands, the RPE says why it has no figure.
+    EXPECT_NE(eval.find("RPE: none (RPE needs at least 3 frame pairs"), std::string::npos) << eval;
+  }
 }
 
 TriangleMesh sphere(float r, int rings = 120, int segments = 240) {
