@@ -93,14 +93,20 @@ def color_attribute_name(mesh):
     return None
 
 
-def vertex_color_material(name, attribute, fallback_rgb=(0.8, 0.8, 0.8)):
-    """Principled BSDF whose Base Color is the mesh's colour attribute (matte: a scan has no gloss)."""
+def matte_material(name):
+    """A node material whose Principled BSDF is matte (a scan has no gloss): (material, its BSDF)."""
     mat = bpy.data.materials.new(name)
     mat.use_nodes = True
-    nodes, links = mat.node_tree.nodes, mat.node_tree.links
-    bsdf = nodes.get("Principled BSDF")
+    bsdf = mat.node_tree.nodes.get("Principled BSDF")
     bsdf.inputs["Roughness"].default_value = 1.0
     bsdf.inputs["Specular"].default_value = 0.2
+    return mat, bsdf
+
+
+def vertex_color_material(name, attribute, fallback_rgb=(0.8, 0.8, 0.8)):
+    """Matte material whose Base Color is the mesh's colour attribute."""
+    mat, bsdf = matte_material(name)
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
     if attribute:
         attr = nodes.new("ShaderNodeAttribute")
         attr.attribute_name = attribute
@@ -111,13 +117,9 @@ def vertex_color_material(name, attribute, fallback_rgb=(0.8, 0.8, 0.8)):
 
 
 def texture_material(name, image):
-    """Principled BSDF whose Base Color is the baked texture (vdbfuse export --texture)."""
-    mat = bpy.data.materials.new(name)
-    mat.use_nodes = True
+    """Matte material whose Base Color is the baked texture (vdbfuse export --texture)."""
+    mat, bsdf = matte_material(name)
     nodes, links = mat.node_tree.nodes, mat.node_tree.links
-    bsdf = nodes.get("Principled BSDF")
-    bsdf.inputs["Roughness"].default_value = 1.0
-    bsdf.inputs["Specular"].default_value = 0.2
     tex = nodes.new("ShaderNodeTexImage")
     tex.image = image
     tex.interpolation = "Linear"

@@ -186,18 +186,23 @@ std::vector<ChartBuild> growCharts(const TriangleMesh& mesh, const UvAtlasOption
   std::stable_sort(order.begin(), order.end(),
                    [&](int32_t a, int32_t b) { return grower.area2(size_t(a)) > grower.area2(size_t(b)); });
   const float min_cos = std::cos(o.max_chart_angle_deg * float(M_PI) / 180.f);
+  // Each seed not yet charted starts a chart that grows breadth-first over edge neighbours
+  // whose normal keeps a cosine of at least `cos_limit` with the seed's.
   std::vector<int32_t> queue;
-  for (int32_t seed : order) {
-    if (grower.chartOf(size_t(seed)) >= 0) continue;
-    const int32_t id = grower.newChart(grower.normal(size_t(seed)));
-    queue.assign(1, seed);
-    for (size_t head = 0; head < queue.size(); ++head) {
-      const int32_t f = queue[head];
-      if (grower.chartOf(size_t(f)) >= 0 || !grower.tryAdd(f, id, min_cos)) continue;
-      for (int32_t g : nb[size_t(f)])
-        if (g >= 0 && grower.chartOf(size_t(g)) < 0) queue.push_back(g);
+  auto growFromSeeds = [&](const std::vector<int32_t>& seeds, float cos_limit) {
+    for (int32_t seed : seeds) {
+      if (grower.chartOf(size_t(seed)) >= 0) continue;
+      const int32_t id = grower.newChart(grower.normal(size_t(seed)));
+      queue.assign(1, seed);
+      for (size_t head = 0; head < queue.size(); ++head) {
+        const int32_t f = queue[head];
+        if (grower.chartOf(size_t(f)) >= 0 || !grower.tryAdd(f, id, cos_limit)) continue;
+        for (int32_t g : nb[size_t(f)])
+          if (g >= 0 && grower.chartOf(size_t(g)) < 0) queue.push_back(g);
+      }
     }
-  }
+  };
+  growFromSeeds(order, min_cos);
   // Faces of tiny charts are released, offered to a neighbouring larger chart at a relaxed
   // angle, and what none takes is charted again among itself at that angle.
   constexpr size_t kTiny = 4;        // faces
@@ -217,17 +222,7 @@ std::vector<ChartBuild> growCharts(const TriangleMesh& mesh, const UvAtlasOption
       const int32_t target = g < 0 ? -1 : grower.chartOf(size_t(g));
       if (target >= 0) grower.tryAdd(f, target, relaxed_cos);
     }
-  for (int32_t seed : released) {
-    if (grower.chartOf(size_t(seed)) >= 0) continue;
-    const int32_t id = grower.newChart(grower.normal(size_t(seed)));
-    queue.assign(1, seed);
-    for (size_t head = 0; head < queue.size(); ++head) {
-      const int32_t f = queue[head];
-      if (grower.chartOf(size_t(f)) >= 0 || !grower.tryAdd(f, id, relaxed_cos)) continue;
-      for (int32_t g : nb[size_t(f)])
-        if (g >= 0 && grower.chartOf(size_t(g)) < 0) queue.push_back(g);
-    }
-  }
+  growFromSeeds(released, relaxed_cos);
   std::vector<ChartBuild> charts;
   for (ChartBuild& c : grower.charts())
     if (!c.faces.empty()) charts.push_back(std::move(c));
