@@ -45,9 +45,11 @@ struct IcpParams {
   float depth_noise_quadratic = 0.0019f;
   int depth_noise_power = 2;
   // Directions of the pose that the view's geometry constrains less than this share of its
-  // measured pixels would (one wall: sliding along it, turning about its normal) keep the last
-  // frame's motion instead of drifting with the noise (fusion/tracking.cpp solveIncrement).
-  // Real views measured: TUM >= 0.56, 7-Scenes kitchen >= 0.037; a noisy Kinect v1 wall
+  // measured pixels would (one wall: sliding along it, turning about its normal) are pulled
+  // towards the last frame's motion instead of drifting with the noise, as strongly as a
+  // direction at this share is measured (fusion/tracking.cpp solveIncrement).
+  // Real views measured: TUM >= 0.56, most of 7-Scenes kitchen >= 0.037 but some frames of its
+  // 500 between 0.01 and 0.02 (0.02 took its ATE from 2.63 to 3.81 cm); a noisy Kinect v1 wall
   // 0.013-0.02 (normals tilted by the noise), a clean synthetic one 0.002. 0 = off.
   float degenerate_share = 0.01f;
   bool constant_velocity = false;     // predict the pose from the last motion (else: no motion)
