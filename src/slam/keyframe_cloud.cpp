@@ -1,6 +1,7 @@
 #include "slam/keyframe_cloud.h"
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <array>
@@ -117,6 +118,14 @@ std::optional<CloudAlignment> alignClouds(const KeyframeCloud& source, const Key
   }
   result.T_target_source = T;
   return result;
+}
+
+double CloudAlignment::weakestTranslationShare() const {
+  const Eigen::Matrix3d block = information.bottomRightCorner<3, 3>();
+  const double trace = block.trace();
+  if (!(trace > 0)) return 0;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(block);
+  return std::max(0.0, eigen.eigenvalues()(0)) / trace;
 }
 
 }  // namespace vf::slam

@@ -32,6 +32,11 @@ struct CloudAlignment {
   // The Gauss-Newton information of the camera-frame increment (omega, v) of the source, from the
   // partners' rows, in 1/m^2 of point-to-plane residual (for a pose graph edge).
   Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
+  // The weakest translation direction's share of the partners' constraint on translation (the
+  // smallest eigenvalue of the information's translation block over its trace): 1/3 when the
+  // surfaces face every way, near 0 when they leave a direction free (one wall, a corridor seen
+  // along its length).
+  double weakestTranslationShare() const;
 };
 
 // Point-to-plane ICP of source onto target from `initial`, with partners within max_distance_m

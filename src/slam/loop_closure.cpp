@@ -29,8 +29,8 @@ Eigen::Matrix<double, 6, 6> edgeInformation(const CloudAlignment& a, double sigm
 void LoopParams::validate() const {
   if (min_separation_frames < 1 || candidates_by_code < 0 || candidates_by_place < 0 || !(min_overlap > 0) ||
       !(max_rmse_m > 0) || !(loop_sigma_m > 0) || !(odometry_sigma_m > 0) || !(odometry_drift >= 0) ||
-      !(max_candidate_distance_m > 0))
-    throw Error("LoopParams: separations, counts and limits must be positive");
+      !(max_candidate_distance_m > 0) || !(min_translation_share >= 0 && min_translation_share <= 1.0 / 3.0))
+    throw Error("LoopParams: separations, counts and limits must be positive, min_translation_share in [0, 1/3]");
 }
 
 std::vector<PoseGraphEdge> odometryEdges(const KeyframeStore& keyframes, const LoopParams& params) {
@@ -91,7 +91,9 @@ std::vector<PoseGraphEdge> detectLoops(const KeyframeStore& keyframes, const Loo
       std::optional<CloudAlignment> best;
       for (const Pose& start : starts) {
         const auto a = alignClouds(newer.cloud, older.cloud, start, 0.05f, 20);
-        if (!a || a->overlap < params.min_overlap || a->rmse_m > params.max_rmse_m) continue;
+        if (!a || a->overlap < params.min_overlap || a->rmse_m > params.max_rmse_m ||
+            a->weakestTranslationShare() < params.min_translation_share)
+          continue;
         if (!best || a->overlap > best->overlap) best = a;
       }
       if (!best) continue;

@@ -2,9 +2,10 @@
 // Finding where the camera came back: for each keyframe, older keyframes that look alike (their
 // appearance codes, slam/frame_code.h) or that the odometry puts nearby are candidates; a
 // candidate becomes a loop edge only when the two views' depth aligns (slam/keyframe_cloud.h)
-// from a start their point features agree on, or from the odometry's guess, with enough overlap
-// and a small residual. The pose graph's robust loss and switching (slam/pose_graph.h) then deal
-// with a wrong loop that looks right to both checks.
+// from a start their point features agree on, or from the odometry's guess, with enough overlap,
+// a small residual, and surfaces that pin the translation down (not a corridor seen along its
+// length). The pose graph's robust loss and switching (slam/pose_graph.h) then deal with a wrong
+// loop that looks right to every check.
 #include <vector>
 
 #include "slam/keyframes.h"
@@ -21,6 +22,13 @@ struct LoopParams {
   float max_candidate_angle_deg = 40.f;   // looking within this angle
   float min_overlap = 0.3f;              // share of the newer view's points the older one explains
   float max_rmse_m = 0.015f;             // point-to-plane, over those points
+  // And the two views' surfaces must pin the translation down in every direction: a corridor
+  // seen along its length, or one wall, aligns as well anywhere along it, so it cannot say where
+  // the camera came back. The weakest direction's share of the translation constraint
+  // (CloudAlignment::weakestTranslationShare): the ring corridor's ten loops found without this
+  // test were all wrong (by 0.5 to 4.4 m) and all below 0.011; 7-Scenes kitchen's 63 (500
+  // frames) at least 0.034, TUM fr1/xyz's 0.072.
+  double min_translation_share = 0.02;
   // The size of edge errors, for their information matrices (loop_closure.cpp edgeInformation):
   // A loop: two views' depth aligned to each other carries the sensor's per-pixel depth bias (a
   // degree or two between views far apart on a Kinect v1, a couple of centimetres at 1-2 m).
