@@ -34,6 +34,7 @@ VF_CUDA_FOR(IntensityGradientKernel)
 // track (icp_kernels.h, photometric_kernels.h)
 template void parallelReduce<normal_row::kSize, IcpKernel>(int, const IcpKernel&, double*);
 template void parallelReduce<normal_row::kSize, PhotometricKernel>(int, const PhotometricKernel&, double*);
+template void parallelReduce<2, ModelNormalScatterKernel>(int, const ModelNormalScatterKernel&, double*);
 // integrate (integrate_kernels.h) and the brick hash (brick_hash.h)
 VF_CUDA_FOR(MarkBricksKernel)
 VF_CUDA_FOR(CountNewBricksKernel)

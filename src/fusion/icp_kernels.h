@@ -112,4 +112,31 @@ struct IcpKernel {
   }
 };
 
+// How much the model's normals scatter where its surface is smooth: the mean of |n - n'|^2 / 4
+// between a prediction pixel's normal and the one kStep pixels to its right (every kStep-th
+// pixel in x and y), each pair capped at kCap so that the few pairs across an edge weigh little.
+// For normals with independent noise of variance s^2 per axis across the surface, that is s^2:
+// what the noise alone gives a direction the surface leaves free (a wall's sliding direction has
+// the share s^2 of the point-to-plane constraint; fusion/tracking.cpp solveIncrement). row[0]:
+// the capped sum, row[1]: the pairs.
+struct ModelNormalScatterKernel {
+  static constexpr int kStep = 2;
+  static constexpr float kCap = 0.05f;  // |n - n'|^2 of 13 degrees
+  ImageView<const Vec3f> model_normal;
+
+  VF_HD int count() const { return (model_normal.width / kStep) * (model_normal.height / kStep); }
+  VF_HD bool operator()(int item, float* row) const {
+    const int columns = model_normal.width / kStep;
+    const int x = (item % columns) * kStep, y = (item / columns) * kStep;
+    if (x + kStep >= model_normal.width) return false;
+    const Vec3f a = model_normal(x, y), b = model_normal(x + kStep, y);
+    if ((a.x == 0.f && a.y == 0.f && a.z == 0.f) || (b.x == 0.f && b.y == 0.f && b.z == 0.f)) return false;
+    const float dx = a.x - b.x, dy = a.y - b.y, dz = a.z - b.z;
+    const float d2 = dx * dx + dy * dy + dz * dz;
+    row[0] = d2 < kCap ? d2 : kCap;
+    row[1] = 1.f;
+    return true;
+  }
+};
+
 }  // namespace vf

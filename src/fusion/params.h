@@ -52,6 +52,9 @@ struct IcpParams {
   // 500 between 0.01 and 0.02 (0.02 took its ATE from 2.63 to 3.81 cm); a noisy Kinect v1 wall
   // 0.013-0.02 (normals tilted by the noise), a clean synthetic one 0.002. 0 = off.
   float degenerate_share = 0.01f;
+  // ... beyond what the scatter of the model's normals gives a free direction by itself (noisy
+  // depth makes a flat wall's normals tilt every way; fusion/tracking.cpp solveIncrement).
+  bool degenerate_noise_floor = true;
   bool constant_velocity = false;     // predict the pose from the last motion (else: no motion)
   // Photometric term (model colour against the current image), weighted relative to the
   // point-to-plane term as (sigma_depth / sigma_grey)^2; 0 disables it. Used when frames have

@@ -90,12 +90,17 @@ Eigen::Matrix<double, 6, 6> pointMotionMetric(const Eigen::Vector3d& mean, const
 // followed the prior alone and its error grew frame after frame: the synthetic corridor's
 // walk along a corridor whose end lies beyond the depth range, first 25 frames 4.85 cm off the
 // true motion, then a 4 cm jump when the view regained the direction; pulled, 0.52 cm.)
-// The photometric rows are left out of that test: on a weakly textured wall, image noise makes
-// every direction look measured. Well-constrained directions are left to the data, so that the
+// The model's normals scatter with the depth noise, and that scatter alone gives a free
+// direction the share `normal_scatter` of the constraint (ModelNormalScatterKernel): the test
+// looks for less than degenerate_share beyond it (a noisy Kinect v1 wall at a corridor's corner:
+// 0.013-0.019 with a scatter of 0.008-0.009, where 7-Scenes kitchen's weakest views have 0.016 with
+// 0.004). The photometric rows are left out of that test: on a weakly textured wall, image
+// noise makes every direction look measured. Well-constrained directions are left to the data, so that the
 // prior cannot bias them. degenerate: how many directions were pulled.
 bool solveIncrement(const RowSums& sums, const RowSums& geometric_sums, double geometric_weight,
                     const Eigen::Matrix<double, 6, 6>& G, const Pose& T, const Pose& T_hold,
-                    double degenerate_share, Eigen::Matrix<double, 6, 1>& xi, int& degenerate) {
+                    double degenerate_share, double normal_scatter, Eigen::Matrix<double, 6, 1>& xi,
+                    int& degenerate) {
   CameraSystem s = cameraSystem(sums, T);
   Eigen::Matrix<double, 6, 1> rhs = -s.g;
   degenerate = 0;
@@ -103,8 +108,10 @@ bool solveIncrement(const RowSums& sums, const RowSums& geometric_sums, double g
     const Eigen::Matrix<double, 6, 6> A_geometric = cameraSystem(geometric_sums, T).A;
     const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eigen(A_geometric, G);
     Eigen::Matrix<double, 6, 6> hold = Eigen::Matrix<double, 6, 6>::Zero();
+    // The model's normal noise gives every free direction the share normal_scatter of its own.
+    const double threshold = (degenerate_share + normal_scatter) * geometric_weight;
     for (int i = 0; i < 6; ++i)
-      if (eigen.eigenvalues()(i) < degenerate_share * geometric_weight) {
+      if (eigen.eigenvalues()(i) < threshold) {
         const Eigen::Matrix<double, 6, 1> Gu = G * eigen.eigenvectors().col(i);
         hold += Gu * Gu.transpose();
         ++degenerate;
@@ -181,6 +188,12 @@ Pipeline::IcpSolution Pipeline::solveIcp(const Pose& initial_guess, const Pose& 
   // The prediction exists from params_.raycast.prediction_level down; finer measured levels
   // associate against it (projective association only needs the model's camera).
   auto modelLevel = [&](int l) { return std::max(l, params_.raycast.prediction_level); };
+  double normal_scatter = 0;
+  if (p.degenerate_share > 0 && p.degenerate_noise_floor) {
+    const ModelNormalScatterKernel scatter{constView(b.model_normal[modelLevel(0)])};
+    const std::array<double, 2> sums = parallelReduce<2>(device_, scatter.count(), scatter);
+    if (sums[1] > 0) normal_scatter = sums[0] / sums[1] / 4.0;
+  }
   auto icpAtLevel = [&](int l) {
     IcpKernel icp;
     icp.vertex_cam = constView(b.vertex[l]);
@@ -240,7 +253,8 @@ Pipeline::IcpSolution Pipeline::solveIcp(const Pose& initial_guess, const Pose& 
       }
       Eigen::Matrix<double, 6, 1> xi;
       int degenerate = 0;
-      if (!solveIncrement(sums, geometric_sums, geometric_weight, G, T, T_hold, p.degenerate_share, xi, degenerate))
+      if (!solveIncrement(sums, geometric_sums, geometric_weight, G, T, T_hold, p.degenerate_share, normal_scatter, xi,
+                          degenerate))
         break;
       if (l == 0) solution.degenerate_directions = degenerate;
       T = twistToPose(xi) * T;

@@ -5,7 +5,7 @@
 // the true motion after 25 frames, then a 4 cm jump once the view measured it again); pulled
 // towards the prior no harder than the threshold of a weak direction, the model keeps it within
 // millimetres (fusion/tracking.cpp solveIncrement). Full Kinect v1 resolution: at a quarter of the
-// pixels the view constrains that direction differently.
+// pixels the view constrains that direction differently. And round a corner facing one blank wall.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -16,19 +16,18 @@
 namespace vf::synth {
 namespace {
 
-TEST(CorridorTracking, AWalkAlongACorridorWithItsEndOutOfRangeKeepsItsPace) {
-  RoomScanOptions options = scanDefaults(Scene::kCorridor);
-  options.frames = 26;
-  const RoomScanSource source(options);
-  Pipeline pipeline(PipelineParams{}, source.depthIntrinsics(), Device::Cpu);
+// The worst distance, over the frames, between the motion tracked since the first frame and the
+// true one, in cm; `worst_frame` gets the walk index where it was.
+double worstDrift_cm(const RoomScanSource& source, const PipelineParams& params, int& worst_frame) {
+  Pipeline pipeline(params, source.depthIntrinsics(), Device::Cpu);
   Pose first_estimate, first_truth;
   double worst_cm = 0;
-  int worst_frame = 0;
+  worst_frame = 0;
   for (int i = 0; i < source.size(); ++i) {
     const RgbdFrame frame = source.load(i);
     const FrameResult result = pipeline.processFrame(frame);
-    ASSERT_TRUE(result.tracked) << "frame " << i << ": " << result.lost_reason;
-    ASSERT_TRUE(frame.T_world_cam_given.has_value());
+    EXPECT_TRUE(result.tracked) << "frame " << source.walkIndex(i) << ": " << result.lost_reason;
+    if (!result.tracked || !frame.T_world_cam_given) return 1e9;
     if (i == 0) {
       first_estimate = result.T_world_cam;
       first_truth = *frame.T_world_cam_given;
@@ -38,10 +37,34 @@ TEST(CorridorTracking, AWalkAlongACorridorWithItsEndOutOfRangeKeepsItsPace) {
     const Pose estimated = first_estimate.inverse() * result.T_world_cam;
     const Pose truth = first_truth.inverse() * *frame.T_world_cam_given;
     const double error_cm = (estimated.translation() - truth.translation()).norm() * 100.0;
-    if (error_cm > worst_cm) worst_cm = error_cm, worst_frame = i;
+    if (error_cm > worst_cm) worst_cm = error_cm, worst_frame = source.walkIndex(i);
   }
+  return worst_cm;
+}
+
+TEST(CorridorTracking, AWalkAlongACorridorWithItsEndOutOfRangeKeepsItsPace) {
+  RoomScanOptions options = scanDefaults(Scene::kCorridor);
+  options.frames = 26;
+  int worst_frame = 0;
   // 25 frames walk 81 cm; the prior pulled: 0.59 cm at worst; held outright: 9.3 cm (frame 20).
-  EXPECT_LT(worst_cm, 1.5) << "worst at frame " << worst_frame;
+  EXPECT_LT(worstDrift_cm(RoomScanSource(options), PipelineParams{}, worst_frame), 1.5) << "worst at frame " << worst_frame;
+}
+
+// Walking frames 150-250 round the first corner, the camera faces one blank wall for a second
+// (frames 225-235): its Kinect noise tilts the model's normals every way, so that sliding along
+// it looks 1.3-1.9 % constrained, more than the 1 % a free direction is allowed. Counted beyond
+// the normals' own scatter (0.8-0.9 % there), it is free and follows the walk: 2.6 cm at worst;
+// taken at face value the camera slides sideways by up to 9 cm a frame: 64 cm.
+TEST(CorridorTracking, TurningACornerFacingOneBlankWallKeepsToTheWalk) {
+  RoomScanOptions options = scanDefaults(Scene::kCorridor);
+  options.frames = 251;
+  options.gaps.push_back({0, 150});
+  const RoomScanSource source(options);
+  int worst_frame = 0;
+  EXPECT_LT(worstDrift_cm(source, PipelineParams{}, worst_frame), 5.0) << "worst at walk frame " << worst_frame;
+  PipelineParams face_value;
+  face_value.icp.degenerate_noise_floor = false;
+  EXPECT_GT(worstDrift_cm(source, face_value, worst_frame), 10.0) << "the corner no longer needs the noise floor";
 }
 
 }  // namespace
