@@ -92,11 +92,11 @@ Eigen::Matrix<double, 6, 6> pointMotionMetric(const Eigen::Vector3d& mean, const
 // true motion, then a 4 cm jump when the view regained the direction; pulled, 0.52 cm.)
 // The model's normals scatter with the depth noise, and that scatter alone gives a free
 // direction the share `normal_scatter` of the constraint (ModelNormalScatterKernel): the test
-// looks for less than degenerate_share beyond it (a noisy Kinect v1 wall at a corridor's corner:
-// 0.013-0.019 with a scatter of 0.008-0.009, where 7-Scenes kitchen's weakest views have 0.016 with
-// 0.004). The photometric rows are left out of that test: on a weakly textured wall, image
-// noise makes every direction look measured. Well-constrained directions are left to the data, so that the
-// prior cannot bias them. degenerate: how many directions were pulled.
+// looks for less than degenerate_share beyond it (a noisy Kinect v1 wall at a corridor's
+// corner: 0.013-0.019 with a scatter of 0.008-0.009, where 7-Scenes kitchen's weakest views have
+// 0.016 with 0.004). The photometric rows are left out of that test: on a weakly textured wall,
+// image noise makes every direction look measured. Well-constrained directions are left to the
+// data, so that the prior cannot bias them. degenerate: how many directions were pulled.
 bool solveIncrement(const RowSums& sums, const RowSums& geometric_sums, double geometric_weight,
                     const Eigen::Matrix<double, 6, 6>& G, const Pose& T, const Pose& T_hold,
                     double degenerate_share, double normal_scatter, Eigen::Matrix<double, 6, 1>& xi,
@@ -117,9 +117,10 @@ bool solveIncrement(const RowSums& sums, const RowSums& geometric_sums, double g
         ++degenerate;
       }
     if (degenerate > 0) {
-      // A direction the data constrains with eigenvalue e ends at the share e / (e + threshold)
-      // of the data's pose and the rest of the prior's: all prior on a blank wall, half at the
-      // threshold, so that the switch from pulled to free is no jump.
+      // A direction the data constrains with eigenvalue e ends at the share e / (e + pull) of
+      // the data's pose and the rest of the prior's, pull = degenerate_share * geometric_weight:
+      // all prior on a clean blank wall, about half near the threshold, so that the switch from
+      // pulled to free is no jump.
       hold *= degenerate_share * geometric_weight;
       s.A += hold;
       rhs -= hold * deviation(T_hold, T);

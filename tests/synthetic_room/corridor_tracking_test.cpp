@@ -47,7 +47,8 @@ TEST(CorridorTracking, AWalkAlongACorridorWithItsEndOutOfRangeKeepsItsPace) {
   options.frames = 26;
   int worst_frame = 0;
   // 25 frames walk 81 cm; the prior pulled: 0.59 cm at worst; held outright: 9.3 cm (frame 20).
-  EXPECT_LT(worstDrift_cm(RoomScanSource(options), PipelineParams{}, worst_frame), 1.5) << "worst at frame " << worst_frame;
+  EXPECT_LT(worstDrift_cm(RoomScanSource(options), PipelineParams{}, worst_frame), 1.5)
+      << "worst at frame " << worst_frame;
 }
 
 // Walking frames 150-250 round the first corner, the camera faces one blank wall for a second
