@@ -9,8 +9,8 @@
 #include <array>
 #include <atomic>
 #include <chrono>
-#include <mutex>
 #include <cmath>
+#include <mutex>
 
 #include "core/error.h"
 #include "texture/mesh_adjacency.h"

@@ -11,7 +11,6 @@
 #include "core/mesh.h"
 #include "texture/bake_view.h"
 #include "texture/uv_atlas.h"
-#include <functional>
 
 namespace vf {
 
