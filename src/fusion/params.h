@@ -56,6 +56,14 @@ struct IcpParams {
   // itself (noisy depth tilts a flat wall's normals every way: a Kinect v1 wall in the synthetic
   // corridor looked 1.3-1.9 % constrained along itself; fusion/tracking.cpp solveIncrement).
   bool degenerate_noise_floor = true;
+  // The coarsest level starts those directions where the motion prior puts them, not at the
+  // still guess (fusion/tracking.cpp startWeakDirectionsAtPrior). Off for now: on the synthetic
+  // corridor it keeps the walk past a radiator (frames 300-325: 96 -> 0.2 cm off the true
+  // motion), and the real samples do not change (their views leave no direction free), but the
+  // whole 1200-frame walk then comes back to its start with the map 35 cm off instead of 1.4 m
+  // and the frame-to-model tracking breaks against the old walls there (ATE 30 -> 62 cm). Turn
+  // it on once tracking keeps to the recent model when a walk returns.
+  bool degenerate_start_at_prior = false;
   bool constant_velocity = false;     // predict the pose from the last motion (else: no motion)
   // Photometric term (model colour against the current image), weighted relative to the
   // point-to-plane term as (sigma_depth / sigma_grey)^2; 0 disables it. Used when frames have
