@@ -95,11 +95,28 @@ struct ClearBrickHashKernel {
   VF_HD void operator()(int e) const { hash.entries[e] = BrickEntry{kEmptyBrickKey, -1, 0}; }
 };
 
-// Re-inserts every allocated brick of the pool into a (larger, cleared) table, keeping its slot.
+// Before a table is replaced: each allocated brick's last marking stamp, by slot, so that the
+// new table still tells which bricks a recent frame saw (the tracking model's window,
+// VolumeView::min_stamp). A stamp of the frame being marked is dropped: that frame's marking
+// runs again from scratch and lists the brick again.
+struct SaveSlotStampsKernel {
+  BrickHashView hash;
+  uint32_t* slot_stamp;    // per slot
+  uint32_t marking_stamp;  // the frame being marked, if any
+  VF_HD void operator()(int e) const {
+    const BrickEntry entry = hash.entries[e];
+    if (entry.key == kEmptyBrickKey || entry.slot < 0) return;
+    slot_stamp[entry.slot] = entry.stamp == marking_stamp ? 0u : entry.stamp;
+  }
+};
+
+// Re-inserts every allocated brick of the pool into a (larger, cleared) table, keeping its slot
+// and its last marking stamp (SaveSlotStampsKernel, or a checkpoint's).
 struct RehashBricksKernel {
   BrickHashView hash;
   const Vec3i* brick_coords;  // per slot
   int* overflow;              // set when an insert found no free entry
+  const uint32_t* slot_stamp; // per slot
 
   VF_HD void operator()(int slot) const {
     const int e = hash.insert(brickKey(brick_coords[slot]));
@@ -108,6 +125,7 @@ struct RehashBricksKernel {
       return;
     }
     hash.entries[e].slot = slot;
+    hash.entries[e].stamp = slot_stamp[slot];
   }
 };
 

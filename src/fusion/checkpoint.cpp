@@ -21,8 +21,9 @@ namespace {
 
 constexpr char kMagic[16] = {'V', 'D', 'B', 'F', 'U', 'S', 'E', '-', 'C', 'K', 'P', 'T', '\n', 0, 0, 0};
 // 1: dense volume with a text annotation block; 2: sparse bricks; 3: the prediction window;
-// 4: poses only for the frames that have one, lost frames with their reason, the driver's state.
-constexpr uint32_t kVersion = 4;
+// 4: poses only for the frames that have one, lost frames with their reason, the driver's state;
+// 5: each brick's last marking stamp (tracking's window of recent bricks).
+constexpr uint32_t kVersion = 5;
 
 uint64_t fnv1a(const uint8_t* p, size_t n, uint64_t h = 1469598103934665603ull) {
   for (size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
@@ -230,6 +231,8 @@ void writeCheckpoint(const std::string& path, Pipeline& pipeline, const RunProgr
   w.bytes(bricks.tsdf, voxels * sizeof(TsdfVoxel));
   w.bytes(bricks.color, voxels * sizeof(Rgb8));
   if (bricks.hasClasses()) w.bytes(bricks.class_vote, voxels * sizeof(uint32_t));
+  const std::vector<uint32_t> stamps = pipeline.brickStamps();  // tracking's window of recent bricks
+  w.bytes(stamps.data(), stamps.size() * sizeof(uint32_t));
   w.commit();
 }
 
@@ -340,8 +343,8 @@ RunProgress readCheckpoint(const std::string& path, Pipeline& pipeline, const Ru
   bricks.voxel_size_m = h.voxel_size_m;
   bricks.truncation_m = h.truncation_m;
   bricks.with_classes = h.with_classes;
-  const uint64_t per_brick = sizeof(Vec3i) + kBrickVoxels * (sizeof(TsdfVoxel) + sizeof(Rgb8) +
-                                                            (h.with_classes ? sizeof(uint32_t) : 0));
+  const uint64_t per_brick = sizeof(Vec3i) + sizeof(uint32_t) +
+                             kBrickVoxels * (sizeof(TsdfVoxel) + sizeof(Rgb8) + (h.with_classes ? sizeof(uint32_t) : 0));
   const uint32_t n = readCount(r, "brick", per_brick);
   bricks.resize(n);
   const size_t voxels = size_t(n) * kBrickVoxels;
@@ -355,10 +358,15 @@ RunProgress readCheckpoint(const std::string& path, Pipeline& pipeline, const Ru
   copy(bricks.tsdf.data(), voxels * sizeof(TsdfVoxel), "tsdf");
   copy(bricks.color.data(), voxels * sizeof(Rgb8), "colour");
   if (h.with_classes) copy(bricks.class_vote.data(), voxels * sizeof(uint32_t), "class votes");
+  std::vector<uint32_t> stamps(n);
+  copy(stamps.data(), size_t(n) * sizeof(uint32_t), "brick stamps");
+  for (const uint32_t stamp : stamps)
+    if (stamp > uint32_t(s.frames_processed))
+      throw Error("checkpoint " + path + " has a brick stamped after its last frame (damaged?)");
   if (!r.atEnd()) throw Error("checkpoint " + path + " has trailing bytes (written by another version?)");
   requireDistinctBricks(bricks, path);
   try {
-    pipeline.restore(s, bricks, window);
+    pipeline.restore(s, bricks, window, stamps);
   } catch (const Error& e) {
     throw Error("checkpoint " + path + ": " + e.what());
   }

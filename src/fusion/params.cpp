@@ -40,6 +40,7 @@ void IcpParams::validate() const {
   require(max_normal_angle_deg > 0 && max_normal_angle_deg <= 90, "IcpParams.max_normal_angle_deg",
           max_normal_angle_deg, "must be in (0, 90]");
   require(huber_m > 0, "IcpParams.huber_m", huber_m, "must be > 0");
+  require(model_window_frames >= 0, "IcpParams.model_window_frames", model_window_frames, "must be >= 0 (0: the whole model)");
   require(photometric_weight >= 0, "IcpParams.photometric_weight", photometric_weight, "must be >= 0");
   require(photometric_huber > 0, "IcpParams.photometric_huber", photometric_huber, "must be > 0");
   require(min_inlier_fraction >= 0 && min_inlier_fraction < 1, "IcpParams.min_inlier_fraction",

@@ -1,5 +1,6 @@
 #include "fusion/pipeline.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.h"
@@ -131,13 +132,14 @@ bool Pipeline::integrate(int& bricks_fused) {
   ScopedStage stage(timer_, "integrate");
   Buffers& b = *buffers_;
   const uint32_t stamp = uint32_t(state_.frames_processed + 1);
+  last_marking_stamp_ = stamp;
   const Rigid3f T_world_cam = toRigid3f(state_.T_world_cam);
   const MeasurementParams& m = params_.measurement;
   // Bricks are allocated from the depth that will be fused, with labels including the dynamic
   // pixels, so that their class is still voted.
   const ImageView<const float> depth = fusedDepth();
   SparseVolume& volume = *volume_;
-  volume.beginFrame();
+  volume.beginFrame(stamp);
   do {
     MarkBricksKernel mark;
     mark.depth = depth;
@@ -188,7 +190,7 @@ ImageView<const float> Pipeline::fusedDepth() const {
   return has_labels_ ? constView(b.labelled_filtered_depth) : constView(b.depth[0]);
 }
 
-void Pipeline::raycast(const Pose& T_world_cam, bool with_color, int level, bool window) {
+void Pipeline::raycast(const Pose& T_world_cam, bool with_color, int level, bool window, uint32_t min_stamp) {
   Buffers& b = *buffers_;
   const Intrinsics camera = intrinsics_.atLevel(level);
   const int tiles_x = (camera.width + kRangeTilePx - 1) / kRangeTilePx;
@@ -212,6 +214,7 @@ void Pipeline::raycast(const Pose& T_world_cam, bool with_color, int level, bool
   const ImageView<Rgb8> color{b.model_color.buffer.data(), camera.width, camera.height};
   RaycastKernel ray;
   ray.volume = volume_->view();
+  ray.volume.min_stamp = min_stamp;
   ray.intrinsics = camera;
   ray.T_world_cam = toRigid3f(T_world_cam);
   ray.near_m = near_m;
@@ -330,8 +333,19 @@ void Pipeline::skip() {
 // RaycastKernel::kWindowHoleRadiusPx of a measurement march, in its window: raycast 21.7 ->
 // 14.6 ms, ATE unchanged on every sequence. A lost frame was measured from somewhere else: its
 // prediction is not windowed.
+//
+// The model tracking sees after a fused frame is what the last IcpParams::model_window_frames
+// frames saw (bricks their marking listed), as ElasticFusion tracks against its active surfels
+// only: where the walk comes back to a place mapped long ago with drift in between, the old
+// walls lie centimetres to decimetres off the new ones and pull the tracker between the two; the
+// loop closure joins them instead. After a frame that was not fused (lost, relocalising, on
+// probation) the whole model is seen: a pose found again is judged against everything mapped.
 void Pipeline::raycastForTracking(const Pose& T_world_model, bool windowed) {
-  raycast(T_world_model, params_.icp.photometric_weight > 0.f, params_.raycast.prediction_level, windowed);
+  const uint32_t window = uint32_t(std::max(0, params_.icp.model_window_frames));
+  const uint32_t newest = last_marking_stamp_;
+  prediction_min_stamp_ = windowed && window > 0 && newest > window ? newest - window + 1 : 0;
+  raycast(T_world_model, params_.icp.photometric_weight > 0.f, params_.raycast.prediction_level, windowed,
+          prediction_min_stamp_);
   model_has_intensity_ = params_.icp.photometric_weight > 0.f;
   state_.T_world_model = T_world_model;
   state_.has_prediction = true;
@@ -355,7 +369,8 @@ Prediction Pipeline::predictFrom(const Pose& T_world_cam, bool with_color) {
   }
   // Restore the tracking prediction if a different pose or level was rendered.
   if (state_.has_prediction)
-    raycast(state_.T_world_model, model_has_intensity_, params_.raycast.prediction_level, state_.prediction_windowed);
+    raycast(state_.T_world_model, model_has_intensity_, params_.raycast.prediction_level, state_.prediction_windowed,
+            prediction_min_stamp_);
   return out;
 }
 
@@ -368,7 +383,10 @@ Image<float> Pipeline::predictionWindow() const {
   return window;
 }
 
-void Pipeline::restore(const PipelineState& state, const HostBrickVolume& bricks, const Image<float>& window) {
+std::vector<uint32_t> Pipeline::brickStamps() const { return volume_->brickStamps(); }
+
+void Pipeline::restore(const PipelineState& state, const HostBrickVolume& bricks, const Image<float>& window,
+                       const std::vector<uint32_t>& brick_stamps) {
   if (state_.frames_processed != 0) throw Error("pipeline: a pipeline can only be restored before its first frame");
   if (state.frames_processed < 0 || state.frames_lost < 0 || state.frames_lost > state.frames_processed)
     throw Error("pipeline: the saved frame counters are inconsistent");
@@ -378,7 +396,10 @@ void Pipeline::restore(const PipelineState& state, const HostBrickVolume& bricks
     throw Error("pipeline: the saved prediction window is " + std::to_string(window.width()) + "x" +
                 std::to_string(window.height()) + ", the tracking prediction " + std::to_string(depth.width) + "x" +
                 std::to_string(depth.height));
-  volume_->restore(bricks);
+  std::vector<uint32_t> stamps = brick_stamps;
+  if (stamps.empty()) stamps.assign(bricks.coords.size(), uint32_t(state.frames_processed));
+  volume_->restore(bricks, stamps);
+  last_marking_stamp_ = stamps.empty() ? 0u : *std::max_element(stamps.begin(), stamps.end());
   state_ = state;
   // The prediction the next frame tracks against, as the last processFrame() left it.
   if (windowed) depth.buffer.upload(window.data(), size_t(depth.width) * depth.height);

@@ -140,7 +140,12 @@ class Pipeline {
   // is restored only to render the bricks, the prediction is raycast without a window).
   const PipelineState& state() const { return state_; }
   Image<float> predictionWindow() const;
-  void restore(const PipelineState& state, const HostBrickVolume& bricks, const Image<float>& window = {});
+  // brick_stamps: brickStamps() as saved, one per brick (empty: every brick counts as seen by the
+  // last frame).
+  void restore(const PipelineState& state, const HostBrickVolume& bricks, const Image<float>& window = {},
+               const std::vector<uint32_t>& brick_stamps = {});
+  // Each brick of hostVolume() (same order): the frame whose marking last listed it (1-based).
+  std::vector<uint32_t> brickStamps() const;
 
  private:
   struct Buffers;
@@ -157,7 +162,8 @@ class Pipeline {
   // integrate_filtered_depth), with the dynamic pixels of a labelled frame kept for the vote.
   ImageView<const float> fusedDepth() const;
   // window: look for surfaces only near depth[level] (RaycastKernel::window_depth).
-  void raycast(const Pose& T_world_cam, bool with_color, int level, bool window = false);
+  // min_stamp: see only bricks a frame marked at or after that stamp (VolumeView::min_stamp).
+  void raycast(const Pose& T_world_cam, bool with_color, int level, bool window = false, uint32_t min_stamp = 0);
   // The model prediction tracking uses: a raycast from T_world_model, which becomes
   // state_.T_world_model. windowed: the current frame was fused from this pose, and its depth
   // bounds the rays (see the definition).
@@ -175,6 +181,8 @@ class Pipeline {
   bool has_color_ = false;
   bool color_full_ = false;  // the frame's colour is larger than depth: integrate from color_full
   bool model_has_intensity_ = false;  // the prediction carries model_intensity
+  uint32_t prediction_min_stamp_ = 0;  // the prediction's window of recent bricks (0: all)
+  uint32_t last_marking_stamp_ = 0;    // the stamp of the last frame fused
   StageTimer timer_;
 };
 

@@ -232,7 +232,7 @@ struct RaycastKernel {
     const Vec3i brick = brickOfVoxel(ix, iy, iz);
     if (r.slot == -2 || brick.x != r.brick.x || brick.y != r.brick.y || brick.z != r.brick.z) {
       r.brick = brick;  // look a brick up once, not at every step inside it
-      r.slot = volume.hash.slotOf(brick);
+      r.slot = volume.slotOf(brick);
     }
     if (r.slot < 0) {
       // Never advance less than a regular step: a ray grazing a brick face would otherwise

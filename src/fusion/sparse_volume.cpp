@@ -230,19 +230,29 @@ void SparseVolume::allocateHash(uint32_t capacity) {
 }
 
 // Re-inserts the allocated bricks into a table twice the size (or more, until they fit).
-void SparseVolume::rehash() {
+void SparseVolume::rehash(const uint32_t* slot_stamps) {
+  // The bricks' last marking stamps, by slot, before the old table goes (tracking's window of
+  // recent bricks reads them: Pipeline::raycastForTracking).
+  Buffer<uint32_t> saved;
+  if (!slot_stamps && brick_count_ > 0) {
+    saved.allocate(device_, size_t(brick_count_));
+    parallelFor(device_, int(hash_capacity_), SaveSlotStampsKernel{view_.hash, saved.data(), marking_stamp_});
+    slot_stamps = saved.data();
+  }
   uint32_t capacity = hash_capacity_;
   for (;;) {
     capacity *= 2;
     if (capacity > kMaxHashCapacity) throw Error("volume: the brick hash table cannot grow further");
     allocateHash(capacity);
     setCounter(kOverflow, 0);
-    parallelFor(device_, brick_count_, RehashBricksKernel{view_.hash, view_.brick_coords, overflowFlag()});
+    parallelFor(device_, brick_count_,
+                RehashBricksKernel{view_.hash, view_.brick_coords, overflowFlag(), slot_stamps});
     if (readCounter(kOverflow) == 0) return;
   }
 }
 
-void SparseVolume::beginFrame() {
+void SparseVolume::beginFrame(uint32_t stamp) {
+  marking_stamp_ = stamp;
   // Load factor at most 0.4 before the frame leaves room for its new bricks (linear probing stays
   // short); a frame that still overflows makes growIfOverflowed() rehash and mark again.
   if (uint64_t(brick_count_) * 5 > uint64_t(hash_capacity_) * 2) rehash();
@@ -254,7 +264,7 @@ void SparseVolume::beginFrame() {
 bool SparseVolume::growIfOverflowed() {
   if (readCounter(kOverflow) == 0) return false;
   rehash();  // forgets this frame's partial list and stamps: marking runs again from scratch
-  beginFrame();
+  beginFrame(marking_stamp_);
   return true;
 }
 
@@ -324,11 +334,23 @@ BrickVolumeView SparseVolume::hostView() {
   return m.view();
 }
 
-void SparseVolume::restore(const HostBrickVolume& bricks) {
+std::vector<uint32_t> SparseVolume::brickStamps() const {
+  std::vector<uint32_t> stamps(size_t(brick_count_), 0u);
+  if (brick_count_ == 0) return stamps;
+  Buffer<uint32_t> by_slot(device_, size_t(brick_count_));
+  // Every slot in use has its entry; a stamp equal to 0 drops nothing (no frame has stamp 0).
+  parallelFor(device_, int(hash_capacity_), SaveSlotStampsKernel{view_.hash, by_slot.data(), 0u});
+  by_slot.download(stamps.data(), stamps.size());
+  return stamps;
+}
+
+void SparseVolume::restore(const HostBrickVolume& bricks, const std::vector<uint32_t>& stamps) {
   if (bricks.with_classes != with_classes_)
     throw Error(std::string("volume: the saved bricks were fused ") + (bricks.with_classes ? "with" : "without") +
                 " classes");
   const int n = int(bricks.coords.size());
+  if (stamps.size() != size_t(n))
+    throw Error("volume: " + std::to_string(stamps.size()) + " brick stamps for " + std::to_string(n) + " bricks");
   if (n > pool_capacity_ && !growPool(n))
     throw Error("volume: " + std::to_string(n) + " saved bricks do not fit in memory (at most " +
                 std::to_string(pool_limit_) + ")");
@@ -352,7 +374,9 @@ void SparseVolume::restore(const HostBrickVolume& bricks) {
   uint32_t capacity = kInitialHashCapacity;
   while (uint64_t(n) * 5 > uint64_t(capacity) * 2) capacity *= 2;
   hash_capacity_ = capacity / 2;
-  rehash();
+  Buffer<uint32_t> slot_stamps(device_, std::max<size_t>(1, size_t(n)));
+  if (n > 0) slot_stamps.upload(stamps.data(), size_t(n));
+  rehash(slot_stamps.data());
 }
 
 }  // namespace vf

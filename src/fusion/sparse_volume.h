@@ -44,8 +44,9 @@ class SparseVolume {
   size_t bytesHeld() const;
 
   // Allocation, one frame at a time (Pipeline::integrate):
-  // 1. beginFrame(): the hash has room for the frame (it grows between frames) and the list is empty.
-  void beginFrame();
+  // 1. beginFrame(stamp): the hash has room for the frame (it grows between frames) and the list
+  //    is empty; `stamp` is the frame's marking stamp (MarkBricksKernel::stamp).
+  void beginFrame(uint32_t stamp);
   // The per-frame lists and counters the marking kernel writes.
   int* frameEntries() const { return frame_entries_.data(); }
   int* frameSlots() const { return frame_slots_.data(); }
@@ -66,14 +67,20 @@ class SparseVolume {
 
   // A host view of every allocated brick. CPU: the live pool; CUDA: a copy refreshed by each call.
   BrickVolumeView hostView();
-  // Replaces the content with `bricks` (slots 0..n-1 in their order), as a checkpoint saved it.
-  void restore(const HostBrickVolume& bricks);
+  // Each allocated brick's last marking stamp (the frame whose marking last listed it), by slot:
+  // what decides whether tracking still sees it (VolumeView::min_stamp).
+  std::vector<uint32_t> brickStamps() const;
+  // Replaces the content with `bricks` (slots 0..n-1 in their order) and their stamps
+  // (brickStamps(), one per brick), as a checkpoint saved them.
+  void restore(const HostBrickVolume& bricks, const std::vector<uint32_t>& stamps);
 
  private:
   enum Counter { kFrameCount = 0, kOverflow, kSlotCount, kPoolFull, kNewBricks, kCounters };
   struct Pool;
   void allocateHash(uint32_t capacity);
-  void rehash();
+  // Into a table twice the size (or more, until the bricks fit); each brick keeps its last
+  // marking stamp, or takes it from `slot_stamps` (device memory, one per slot) when given.
+  void rehash(const uint32_t* slot_stamps = nullptr);
   void refreshView();
   bool growPool(int needed);
   int readCounter(Counter c) const;
@@ -88,6 +95,7 @@ class SparseVolume {
   int brick_count_ = 0;
   bool pool_full_ = false;
   uint32_t hash_capacity_ = 0;
+  uint32_t marking_stamp_ = 0;  // the frame beginFrame() was last given
   Buffer<BrickEntry> entries_;
   Buffer<int> frame_entries_;
   Buffer<int> frame_slots_;

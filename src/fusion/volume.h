@@ -21,11 +21,22 @@ struct VolumeView {
   BrickHashView hash;
   float voxel_size_m = 0;
   float truncation_m = 0;
+  // Lookups treat bricks whose last marking stamp (BrickEntry::stamp) is older than this as
+  // never allocated: tracking's raycast sees only what recent frames saw. 0: every brick.
+  uint32_t min_stamp = 0;
 
   VF_HD static int64_t voxelIndex(int slot, int local) { return int64_t(slot) * kBrickVoxels + local; }
+  // Pool slot of brick b, or -1 where it was never allocated (or is older than min_stamp).
+  VF_HD int slotOf(Vec3i b) const {
+    if (!brickCoordInRange(b)) return -1;
+    const int e = hash.find(brickKey(b));
+    if (e < 0) return -1;
+    const BrickEntry& entry = hash.entries[e];
+    return entry.stamp < min_stamp ? -1 : entry.slot;
+  }
   // Index of voxel (x, y, z) in the voxel arrays, or -1 where its brick was never allocated.
   VF_HD int64_t findVoxel(int x, int y, int z) const {
-    const int slot = hash.slotOf(brickOfVoxel(x, y, z));
+    const int slot = slotOf(brickOfVoxel(x, y, z));
     return slot < 0 ? -1 : voxelIndex(slot, localVoxelIndex(x, y, z));
   }
   // Coordinate of the first voxel of the brick in `slot`.

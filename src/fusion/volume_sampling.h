@@ -30,7 +30,7 @@ VF_HD bool cellCorners(const VolumeView& volume, Vec3f g, float corners[8], Vec3
     for (int b = 0; b < 8; ++b) {
       const int dx = b & 1, dy = (b >> 1) & 1, dz = b >> 2;
       if ((dx > next[0]) || (dy > next[1]) || (dz > next[2])) continue;  // the cell does not reach it
-      slots[b] = volume.hash.slotOf(brickOfVoxel(x + dx, y + dy, z + dz));
+      slots[b] = volume.slotOf(brickOfVoxel(x + dx, y + dy, z + dz));
       if (slots[b] < 0) return false;
     }
     for (int k = 0; k < 8; ++k) {

@@ -3,6 +3,7 @@
 
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <array>
 #include <functional>
 #include <limits>
@@ -218,6 +219,52 @@ TEST(Tracking, IcpRecoversAKnownSixDofMotionWithinAMillimetreAndATenthOfADegree)
   const Pose error = truth.inverse() * r.T_world_cam;
   EXPECT_LT(error.translation().norm(), 1e-3);
   EXPECT_LT(Eigen::AngleAxisd(error.linear()).angle() * 180 / M_PI, 0.1);
+}
+
+// Where a walk comes back after drifting, the map holds the place twice: the copy fused long ago
+// and the one recent frames fused, centimetres apart. Tracking against both pulls the camera
+// between them; with IcpParams::model_window_frames the tracking prediction after a fused frame
+// holds only bricks the last frames' marking listed. Here a room corner is fused 20 times, then
+// 6 times from 8 cm further back while claiming the same pose (the drift: the old copy now lies
+// 8 cm in front of the recent one), then tracked from there. A run resumed from the state at
+// that point (with the bricks' stamps, as a checkpoint keeps them) tracks the same.
+TEST(Tracking, AnOldCopyOfTheMapOutsideTheModelWindowDoesNotPullTracking) {
+  const SyntheticScene scene = roomCorner();
+  const Intrinsics k = testCamera(160, 120);
+  const Pose mapped = Pose::Identity();
+  const Pose drifted = poseFrom(0, 0, 0, 0, 0, -0.08);
+  auto fuseWithDrift = [&](Pipeline& pipeline) {
+    for (int i = 0; i < 26; ++i) {
+      RgbdFrame frame = scene.render(k, i < 20 ? mapped : drifted);
+      frame.T_world_cam_given = mapped;
+      pipeline.processFrame(frame, PoseSource::Given);
+    }
+  };
+  PipelineParams windowed_params = withVoxel(0.005f);
+  windowed_params.icp.model_window_frames = 3;
+  Pipeline windowed(windowed_params, k, Device::Cpu);
+  fuseWithDrift(windowed);
+  const std::vector<uint32_t> stamps = windowed.brickStamps();
+  EXPECT_EQ(*std::max_element(stamps.begin(), stamps.end()), 26u);
+  EXPECT_GT(std::count_if(stamps.begin(), stamps.end(), [](uint32_t s) { return s <= 20; }), 100);
+  Pipeline resumed(windowed_params, k, Device::Cpu);
+  resumed.restore(windowed.state(), HostBrickVolume::copyOf(windowed.hostVolume()), windowed.predictionWindow(),
+                  stamps);
+  EXPECT_EQ(resumed.brickStamps(), stamps);
+
+  // The recent copy puts the camera where the last frames were: at `mapped` (3.8 mm off).
+  const FrameResult recent = windowed.processFrame(scene.render(k, drifted), PoseSource::Icp);
+  ASSERT_TRUE(recent.tracked) << recent.lost_reason;
+  EXPECT_LT((recent.T_world_cam.translation() - mapped.translation()).norm(), 0.01);
+  const FrameResult resumed_recent = resumed.processFrame(scene.render(k, drifted), PoseSource::Icp);
+  EXPECT_TRUE(resumed_recent.T_world_cam.isApprox(recent.T_world_cam, 0.0)) << "the resumed run tracks otherwise";
+  // Against the whole model the old copy in front wins: 7.9 cm off, at the old copy's pose.
+  PipelineParams whole_params = withVoxel(0.005f);
+  whole_params.icp.model_window_frames = 0;
+  Pipeline whole(whole_params, k, Device::Cpu);
+  fuseWithDrift(whole);
+  const FrameResult both = whole.processFrame(scene.render(k, drifted), PoseSource::Icp);
+  EXPECT_GT((both.T_world_cam.translation() - mapped.translation()).norm(), 0.05);
 }
 
 TEST(Tracking, AFrameWithNoDepthIsReportedLostAndKeepsTheLastPose) {

@@ -73,17 +73,15 @@ TEST(CorridorTracking, TurningACornerFacingOneBlankWallKeepsToTheWalk) {
 // else. Started from the still guess, the coarsest level settles one fin period (4.8 cm) short of
 // the true step of 3.2 cm, and the camera walks backwards at 1.6 cm a frame (96 cm in 25 frames
 // of the whole walk). Started where the motion prior puts that direction
-// (IcpParams::degenerate_start_at_prior, off by default until revisits are handled), it keeps
-// the pace: 0.71 cm at worst from a fresh start at frame 290, against 123 cm from the still start.
-TEST(CorridorTracking, WalkingPastARadiatorsFinsKeepsThePaceWhenStartedAtThePrior) {
+// (IcpParams::degenerate_start_at_prior), it keeps the pace: 0.71 cm at worst from a fresh
+// start at frame 290, against 123 cm from the still start.
+TEST(CorridorTracking, WalkingPastARadiatorsFinsKeepsThePace) {
   RoomScanOptions options = scanDefaults(Scene::kCorridor);
   options.frames = 336;
   options.gaps.push_back({0, 290});
   const RoomScanSource source(options);
   int worst_frame = 0;
-  PipelineParams prior_start;
-  prior_start.icp.degenerate_start_at_prior = true;
-  EXPECT_LT(worstDrift_cm(source, prior_start, worst_frame), 3.0) << "worst at walk frame " << worst_frame;
+  EXPECT_LT(worstDrift_cm(source, PipelineParams{}, worst_frame), 3.0) << "worst at walk frame " << worst_frame;
   PipelineParams still_start;
   still_start.icp.degenerate_start_at_prior = false;
   EXPECT_GT(worstDrift_cm(source, still_start, worst_frame), 20.0) << "the still start no longer loses the fins";
