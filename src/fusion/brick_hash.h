@@ -70,12 +70,6 @@ struct BrickHashView {
     }
     return -1;
   }
-  // Pool slot of brick b, or -1 where it was never allocated.
-  VF_HD int slotOf(Vec3i b) const {
-    if (!brickCoordInRange(b)) return -1;
-    const int e = find(brickKey(b));
-    return e < 0 ? -1 : entries[e].slot;
-  }
   // Entry holding `key` after inserting it if absent; -1 when kMaxBrickProbes entries in a row
   // are taken (the table must grow). Safe against concurrent inserts of any keys.
   VF_HD int insert(uint64_t key) const {

@@ -97,6 +97,21 @@ Eigen::Matrix<double, 6, 6> pointMotionMetric(const Eigen::Vector3d& mean, const
 // 0.016 with 0.004). The photometric rows are left out of that test: on a weakly textured wall,
 // image noise makes every direction look measured. Well-constrained directions are left to the
 // data, so that the prior cannot bias them. degenerate: how many directions were pulled.
+// The directions the point-to-plane system at pose T constrains with less than `threshold`:
+// generalised eigenvectors against the point-motion metric G (G-orthonormal columns), weakest first.
+using FreeDirections = Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, 6>;
+FreeDirections freeDirections(const RowSums& geometric_sums, const Pose& T, const Eigen::Matrix<double, 6, 6>& G,
+                              double threshold) {
+  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eigen(cameraSystem(geometric_sums, T).A, G);
+  FreeDirections free(6, 0);
+  for (int i = 0; i < 6; ++i)
+    if (eigen.eigenvalues()(i) < threshold) {
+      free.conservativeResize(Eigen::NoChange, free.cols() + 1);
+      free.col(free.cols() - 1) = eigen.eigenvectors().col(i);
+    }
+  return free;
+}
+
 bool solveIncrement(const RowSums& sums, const RowSums& geometric_sums, double geometric_weight,
                     const Eigen::Matrix<double, 6, 6>& G, const Pose& T, const Pose& T_hold,
                     double degenerate_share, double normal_scatter, Eigen::Matrix<double, 6, 1>& xi,
@@ -105,17 +120,14 @@ bool solveIncrement(const RowSums& sums, const RowSums& geometric_sums, double g
   Eigen::Matrix<double, 6, 1> rhs = -s.g;
   degenerate = 0;
   if (degenerate_share > 0 && geometric_weight > 0) {
-    const Eigen::Matrix<double, 6, 6> A_geometric = cameraSystem(geometric_sums, T).A;
-    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eigen(A_geometric, G);
-    Eigen::Matrix<double, 6, 6> hold = Eigen::Matrix<double, 6, 6>::Zero();
     // The model's normal noise gives every free direction the share normal_scatter of its own.
-    const double threshold = (degenerate_share + normal_scatter) * geometric_weight;
-    for (int i = 0; i < 6; ++i)
-      if (eigen.eigenvalues()(i) < threshold) {
-        const Eigen::Matrix<double, 6, 1> Gu = G * eigen.eigenvectors().col(i);
-        hold += Gu * Gu.transpose();
-        ++degenerate;
-      }
+    const FreeDirections free = freeDirections(geometric_sums, T, G, (degenerate_share + normal_scatter) * geometric_weight);
+    Eigen::Matrix<double, 6, 6> hold = Eigen::Matrix<double, 6, 6>::Zero();
+    for (int i = 0; i < free.cols(); ++i) {
+      const Eigen::Matrix<double, 6, 1> Gu = G * free.col(i);
+      hold += Gu * Gu.transpose();
+    }
+    degenerate = int(free.cols());
     if (degenerate > 0) {
       // A direction the data constrains with eigenvalue e ends at the share e / (e + pull) of
       // the data's pose and the rest of the prior's, pull = degenerate_share * geometric_weight:
@@ -129,6 +141,17 @@ bool solveIncrement(const RowSums& sums, const RowSums& geometric_sums, double g
   const Eigen::Matrix<double, 6, 1> eta = s.A.ldlt().solve(rhs);
   xi = s.M * eta;
   return xi.allFinite();
+}
+
+// The increment exp(xi) for xi = (omega, v): rotation by the axis-angle omega and translation v
+// (a world-frame increment multiplies on the left, a camera-frame one on the right).
+Pose twistToPose(const Eigen::Matrix<double, 6, 1>& xi) {
+  Pose delta = Pose::Identity();
+  const Eigen::Vector3d omega = xi.head<3>();
+  const double angle = omega.norm();
+  if (angle > 1e-12) delta.linear() = Eigen::AngleAxisd(angle, omega / angle).toRotationMatrix();
+  delta.translation() = xi.tail<3>();
+  return delta;
 }
 
 // The point-to-plane weights' sum: the trace of the translation block (unit normals).
@@ -149,32 +172,11 @@ double pointToPlaneWeight(const RowSums& sums) {
 // the lower coarse-level cost, as DSO does, was worse still: head500 6.48 cm.)
 Pose startWeakDirectionsAtPrior(const RowSums& geometric_sums, const Eigen::Matrix<double, 6, 6>& G,
                                 const Pose& T_guess, const Pose& T_hold, double threshold) {
-  const Eigen::Matrix<double, 6, 6> A = cameraSystem(geometric_sums, T_guess).A;
-  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eigen(A, G);
+  const FreeDirections free = freeDirections(geometric_sums, T_guess, G, threshold);
   const Eigen::Matrix<double, 6, 1> to_prior = deviation(T_guess, T_hold);
-  Eigen::Matrix<double, 6, 1> eta = Eigen::Matrix<double, 6, 1>::Zero();
-  for (int i = 0; i < 6; ++i)
-    if (eigen.eigenvalues()(i) < threshold) {
-      const Eigen::Matrix<double, 6, 1> u = eigen.eigenvectors().col(i);  // G-orthonormal
-      eta += u * (u.transpose() * G * to_prior);
-    }
-  if (eta.isZero()) return T_guess;
-  Pose D = Pose::Identity();
-  const double angle = eta.head<3>().norm();
-  if (angle > 1e-12) D.linear() = Eigen::AngleAxisd(angle, eta.head<3>() / angle).toRotationMatrix();
-  D.translation() = eta.tail<3>();
-  return T_guess * D;
-}
-
-// Left-multiplied increment exp(xi) for xi = (omega, v): rotation by the axis-angle omega and
-// translation v.
-Pose twistToPose(const Eigen::Matrix<double, 6, 1>& xi) {
-  Pose delta = Pose::Identity();
-  const Eigen::Vector3d omega = xi.head<3>();
-  const double angle = omega.norm();
-  if (angle > 1e-12) delta.linear() = Eigen::AngleAxisd(angle, omega / angle).toRotationMatrix();
-  delta.translation() = xi.tail<3>();
-  return delta;
+  Eigen::Matrix<double, 6, 1> eta = Eigen::Matrix<double, 6, 1>::Zero();  // camera frame: applied on the right
+  for (int i = 0; i < free.cols(); ++i) eta += free.col(i) * (free.col(i).transpose() * G * to_prior);
+  return eta.isZero() ? T_guess : T_guess * twistToPose(eta);
 }
 
 double rotationDeg(const Pose& delta) { return Eigen::AngleAxisd(delta.linear()).angle() * 180.0 / M_PI; }

@@ -42,6 +42,14 @@ double worstDrift_cm(const RoomScanSource& source, const PipelineParams& params,
   return worst_cm;
 }
 
+// The corridor walk's frames first .. end-1, tracked from a fresh start at `first`.
+RoomScanSource walkStretch(int first, int end) {
+  RoomScanOptions options = scanDefaults(Scene::kCorridor);
+  options.frames = end;
+  options.gaps.push_back({0, first});
+  return RoomScanSource(options);
+}
+
 TEST(CorridorTracking, AWalkAlongACorridorWithItsEndOutOfRangeKeepsItsPace) {
   RoomScanOptions options = scanDefaults(Scene::kCorridor);
   options.frames = 26;
@@ -57,10 +65,7 @@ TEST(CorridorTracking, AWalkAlongACorridorWithItsEndOutOfRangeKeepsItsPace) {
 // the normals' own scatter (0.8-0.9 % there), it is free and follows the walk: 2.6 cm at worst;
 // taken at face value the camera slides sideways by up to 9 cm a frame: 64 cm.
 TEST(CorridorTracking, TurningACornerFacingOneBlankWallKeepsToTheWalk) {
-  RoomScanOptions options = scanDefaults(Scene::kCorridor);
-  options.frames = 251;
-  options.gaps.push_back({0, 150});
-  const RoomScanSource source(options);
+  const RoomScanSource source = walkStretch(150, 251);
   int worst_frame = 0;
   EXPECT_LT(worstDrift_cm(source, PipelineParams{}, worst_frame), 5.0) << "worst at walk frame " << worst_frame;
   PipelineParams face_value;
@@ -76,10 +81,7 @@ TEST(CorridorTracking, TurningACornerFacingOneBlankWallKeepsToTheWalk) {
 // (IcpParams::degenerate_start_at_prior), it keeps the pace: 0.71 cm at worst from a fresh
 // start at frame 290, against 123 cm from the still start.
 TEST(CorridorTracking, WalkingPastARadiatorsFinsKeepsThePace) {
-  RoomScanOptions options = scanDefaults(Scene::kCorridor);
-  options.frames = 336;
-  options.gaps.push_back({0, 290});
-  const RoomScanSource source(options);
+  const RoomScanSource source = walkStretch(290, 336);
   int worst_frame = 0;
   EXPECT_LT(worstDrift_cm(source, PipelineParams{}, worst_frame), 3.0) << "worst at walk frame " << worst_frame;
   PipelineParams still_start;
