@@ -155,7 +155,9 @@ Tracker::Step Tracker::trackOn(const RgbdFrame& frame) {
   } else {
     pipeline_.commit(r.T_world_cam, true, r);
   }
-  markLastGood(r.T_world_cam, frame);
+  // A relocalised pose anchors the next search only once it has held: one that does not hold
+  // was wrong, and the camera is still best looked for from where it was last tracked.
+  if (state_ == State::Tracking) markLastGood(r.T_world_cam, frame);
   if (state_ == State::Tracking) harvest(frame, r);
   step.result = std::move(r);
   return step;
@@ -226,6 +228,13 @@ Tracker::Step Tracker::relocalise(const RgbdFrame& frame) {
   for (const Pose& candidate : candidates) {
     pipeline_.predictForTracking(candidate);
     FrameResult r = pipeline_.track(candidate, TrackingCheck{candidate, true});
+    if (r.tracked && params_.relocalise_only_pinned && r.degenerate_directions > 0) {
+      r.tracked = false;
+      r.reason = LostReason::Relocalising;
+      r.lost_reason = "the view leaves " + std::to_string(r.degenerate_directions) +
+                      (r.degenerate_directions == 1 ? " direction" : " directions") +
+                      " unmeasured (a corridor along its length, one wall): it would align anywhere along it";
+    }
     if (r.tracked && (!best || r.icp_inlier_fraction > best->icp_inlier_fraction)) best = r;
     if (!r.tracked && r.icp_inlier_fraction >= closest.icp_inlier_fraction) closest = r;
   }
@@ -247,8 +256,10 @@ Tracker::Step Tracker::relocalise(const RgbdFrame& frame) {
   pipeline_.commit(best->T_world_cam, holds, *best);
   step.pending = !holds;
   step.confirm_pending = holds;
-  if (holds) state_ = State::Tracking;
-  markLastGood(best->T_world_cam, frame);
+  if (holds) {
+    state_ = State::Tracking;
+    markLastGood(best->T_world_cam, frame);
+  }
   step.result = std::move(*best);
   return step;
 }
