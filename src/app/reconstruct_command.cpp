@@ -203,6 +203,8 @@ void runReconstruct(const ReconstructOptions& o) {
   }
 
   printTrackingSummary(run.frameCount(), run.lostFrames(), run.framesFused(), run.tracker().relocalisations());
+  // Half a second at 30 Hz: shorter stretches drift by millimetres.
+  printPriorHeld(run.tracker().priorHeldStretches(), 15);
   if (run.framesFused() == 0) throw Error(nothingFusedMessage(o, run));
   if (labeled) printLabelSummary(labeled->stats(), labeled->classes(), run.frameCount());
   // A resumed run counted only the frames after the checkpoint: still a fair share.

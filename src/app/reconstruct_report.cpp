@@ -37,6 +37,27 @@ void printTrackingSummary(int frames, const std::vector<LostFrame>& lost, int fr
   }
 }
 
+void printPriorHeld(const std::vector<slam::PriorHeldStretch>& stretches, int min_frames) {
+  std::vector<const slam::PriorHeldStretch*> long_ones;
+  int frames = 0, most = 0;
+  for (const slam::PriorHeldStretch& s : stretches)
+    if (s.frames() >= min_frames) {
+      long_ones.push_back(&s);
+      frames += s.frames();
+      most = std::max(most, s.directions);
+    }
+  if (long_ones.empty()) return;
+  const std::string unmeasured = most == 1 ? "a direction" : "up to " + std::to_string(most) + " directions";
+  std::printf("motion prior: for %d frames in %zu stretch%s the view left %s unmeasured (one wall, a corridor along "
+              "its length) and the camera's own motion carried %s; poses there can have drifted unseen:",
+              frames, long_ones.size(), long_ones.size() == 1 ? "" : "es", unmeasured.c_str(), most == 1 ? "it" : "them");
+  const size_t shown = std::min<size_t>(long_ones.size(), 5);
+  for (size_t i = 0; i < shown; ++i)
+    std::printf("%s %s to %s (%d frames)", i == 0 ? "" : ",", long_ones[i]->first_name.c_str(),
+                long_ones[i]->last_name.c_str(), long_ones[i]->frames());
+  std::printf("%s\n", shown < long_ones.size() ? ", ..." : "");
+}
+
 void printLoopClosure(const slam::GlobalReport& r, bool enabled) {
   if (!enabled) {
     std::printf("loop closure: off (--loop-closure on finds where the camera came back and fuses again)\n");

@@ -9,11 +9,15 @@
 #include "fusion/stage_timer.h"
 #include "io/labeled_source.h"
 #include "slam/global_optimisation.h"
+#include "slam/tracker.h"
 
 namespace vf::app {
 
 // "tracked N of M frames, fused K", then the frames without a pose, counted by reason.
 void printTrackingSummary(int frames, const std::vector<LostFrame>& lost, int frames_fused, int relocalisations);
+// The stretches of at least `min_frames` frames whose poses the motion prior carried in some
+// direction (slam/tracker.h PriorHeldStretch): where the trajectory can have drifted unseen.
+void printPriorHeld(const std::vector<slam::PriorHeldStretch>& stretches, int min_frames);
 // "loop closure: N keyframes, K candidate pairs checked, F loops found, A hold; frames moved ...".
 void printLoopClosure(const slam::GlobalReport& report, bool enabled);
 void printLabelSummary(const LabelStats& stats, const ClassTable& classes, int frames);

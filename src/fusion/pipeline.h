@@ -41,6 +41,9 @@ struct FrameResult {
   // Directions of the pose the view left unconstrained (one wall: three), held by the motion
   // prior; and how far the solution moved from the predicted pose.
   int degenerate_directions = 0;
+  // The weakest direction's share of the point-to-plane constraint beyond the model normals'
+  // own scatter (1: not measured): about 0 for a corridor along its length.
+  float weakest_direction_share = 1.f;
   float jump_m = 0.f, jump_deg = 0.f;
 };
 

@@ -101,8 +101,9 @@ Eigen::Matrix<double, 6, 6> pointMotionMetric(const Eigen::Vector3d& mean, const
 // generalised eigenvectors against the point-motion metric G (G-orthonormal columns), weakest first.
 using FreeDirections = Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, 6>;
 FreeDirections freeDirections(const RowSums& geometric_sums, const Pose& T, const Eigen::Matrix<double, 6, 6>& G,
-                              double threshold) {
+                              double threshold, double* weakest = nullptr) {
   const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eigen(cameraSystem(geometric_sums, T).A, G);
+  if (weakest) *weakest = eigen.eigenvalues()(0);
   FreeDirections free(6, 0);
   for (int i = 0; i < 6; ++i)
     if (eigen.eigenvalues()(i) < threshold) {
@@ -115,13 +116,16 @@ FreeDirections freeDirections(const RowSums& geometric_sums, const Pose& T, cons
 bool solveIncrement(const RowSums& sums, const RowSums& geometric_sums, double geometric_weight,
                     const Eigen::Matrix<double, 6, 6>& G, const Pose& T, const Pose& T_hold,
                     double degenerate_share, double normal_scatter, Eigen::Matrix<double, 6, 1>& xi,
-                    int& degenerate) {
+                    int& degenerate, double* weakest_share) {
   CameraSystem s = cameraSystem(sums, T);
   Eigen::Matrix<double, 6, 1> rhs = -s.g;
   degenerate = 0;
   if (degenerate_share > 0 && geometric_weight > 0) {
     // The model's normal noise gives every free direction the share normal_scatter of its own.
-    const FreeDirections free = freeDirections(geometric_sums, T, G, (degenerate_share + normal_scatter) * geometric_weight);
+    double weakest = 0;
+    const FreeDirections free =
+        freeDirections(geometric_sums, T, G, (degenerate_share + normal_scatter) * geometric_weight, &weakest);
+    if (weakest_share) *weakest_share = weakest / geometric_weight - normal_scatter;
     Eigen::Matrix<double, 6, 6> hold = Eigen::Matrix<double, 6, 6>::Zero();
     for (int i = 0; i < free.cols(); ++i) {
       const Eigen::Matrix<double, 6, 1> Gu = G * free.col(i);
@@ -188,8 +192,10 @@ struct Pipeline::IcpSolution {
   // Geometric sums at the finest level, for the tracking-loss statistics. They describe the pose
   // before the last finest-level iteration's (converged, tiny) update, which saves a pass.
   RowSums finest_sums{};
-  // Directions of the last solve whose constraint was weaker than the motion prior's.
+  // Directions of the last solve whose constraint was weaker than the motion prior's, and the
+  // weakest one's share (FrameResult::weakest_direction_share).
   int degenerate_directions = 0;
+  double weakest_direction_share = 1;
 };
 
 Eigen::Matrix<double, 6, 6> Pipeline::measuredPointMetric() const {
@@ -301,10 +307,11 @@ Pipeline::IcpSolution Pipeline::solveIcp(const Pose& initial_guess, const Pose& 
       }
       Eigen::Matrix<double, 6, 1> xi;
       int degenerate = 0;
+      double weakest_share = 1;
       if (!solveIncrement(sums, geometric_sums, geometric_weight, G, T, T_hold, p.degenerate_share, normal_scatter, xi,
-                          degenerate))
+                          degenerate, &weakest_share))
         break;
-      if (l == 0) solution.degenerate_directions = degenerate;
+      if (l == 0) solution.degenerate_directions = degenerate, solution.weakest_direction_share = weakest_share;
       T = twistToPose(xi) * T;
       if (xi.head<3>().norm() < converged && xi.tail<3>().norm() < converged) break;
     }
@@ -364,6 +371,7 @@ FrameResult Pipeline::judgeTracking(const IcpSolution& solution, const Pose& gue
   result.icp_rmse_m = inliers > 0 ? float(std::sqrt(sums[normal_row::kSquaredError] / inliers)) : 0.f;
   result.T_world_cam = T;
   result.degenerate_directions = solution.degenerate_directions;
+  result.weakest_direction_share = float(solution.weakest_direction_share);
   // The fraction is relative to the measured pixels that have a normal (what ICP can use).
   const int measured = int(sums[normal_row::kMeasured]);
   result.icp_inlier_fraction = measured > 0 ? float(result.icp_inliers) / float(measured) : 0.f;

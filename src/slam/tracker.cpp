@@ -26,6 +26,8 @@ void TrackerParams::validate() const {
   require(keyframe_min_inlier_fraction >= 0 && keyframe_min_inlier_fraction <= 1,
           "keyframe_min_inlier_fraction must be in [0, 1]");
   require(relocalise_by_code >= 0 && relocalise_recent >= 0, "relocalisation candidate counts must be >= 0");
+  require(relocalise_min_direction_share >= 0 && relocalise_min_direction_share < 1,
+          "relocalise_min_direction_share must be in [0, 1)");
   require(min_depth_share > 0 && min_depth_share < 1, "min_depth_share must be in (0, 1)");
   require(max_speed_m_s > 0 && max_turn_deg_s > 0 && reach_slack_m >= 0 && reach_slack_deg >= 0,
           "the relocalisation reach (speed, turn rate, slack) must be positive");
@@ -144,6 +146,7 @@ Tracker::Step Tracker::trackOn(const RgbdFrame& frame) {
   if (!r.tracked) return lost(r);
   recent_match_.push_back(r.icp_inlier_fraction);
   if (int(recent_match_.size()) > params_.recent_frames) recent_match_.erase(recent_match_.begin());
+  if (state_ == State::Tracking) notePriorHeld(frame, r);  // a probation's frames may yet be dropped
   Step step;
   if (state_ == State::Probation) {
     ++probation_count_;
@@ -161,6 +164,18 @@ Tracker::Step Tracker::trackOn(const RgbdFrame& frame) {
   if (state_ == State::Tracking) harvest(frame, r);
   step.result = std::move(r);
   return step;
+}
+
+void Tracker::notePriorHeld(const RgbdFrame& frame, const FrameResult& r) {
+  if (r.degenerate_directions <= 0) return;
+  if (!prior_held_.empty() && prior_held_.back().last_index >= frame.index - 3) {
+    PriorHeldStretch& s = prior_held_.back();
+    s.last_index = frame.index;
+    s.last_name = frame.name;
+    s.directions = std::max(s.directions, r.degenerate_directions);
+    return;
+  }
+  prior_held_.push_back({frame.index, frame.index, frame.name, frame.name, r.degenerate_directions});
 }
 
 void Tracker::rejectCollapse(FrameResult& r) const {
@@ -228,12 +243,16 @@ Tracker::Step Tracker::relocalise(const RgbdFrame& frame) {
   for (const Pose& candidate : candidates) {
     pipeline_.predictForTracking(candidate);
     FrameResult r = pipeline_.track(candidate, TrackingCheck{candidate, true});
-    if (r.tracked && params_.relocalise_only_pinned && r.degenerate_directions > 0) {
+    if (r.tracked && params_.relocalise_min_direction_share > 0 &&
+        r.weakest_direction_share < params_.relocalise_min_direction_share) {
       r.tracked = false;
       r.reason = LostReason::Relocalising;
-      r.lost_reason = "the view leaves " + std::to_string(r.degenerate_directions) +
-                      (r.degenerate_directions == 1 ? " direction" : " directions") +
-                      " unmeasured (a corridor along its length, one wall): it would align anywhere along it";
+      char text[200];
+      std::snprintf(text, sizeof(text),
+                    "the view leaves a direction unmeasured (%.2f%% of the constraint; one wall, a corridor along its "
+                    "length): it would align anywhere along it",
+                    100.0 * std::max(0.f, r.weakest_direction_share));
+      r.lost_reason = text;
     }
     if (r.tracked && (!best || r.icp_inlier_fraction > best->icp_inlier_fraction)) best = r;
     if (!r.tracked && r.icp_inlier_fraction >= closest.icp_inlier_fraction) closest = r;
@@ -312,6 +331,16 @@ void Tracker::write(std::vector<uint8_t>& out) const {
   for (float f : recent_match_) w.pod(f);
   w.pod<uint8_t>(last_given_ ? 1 : 0);
   w.pose(last_given_.value_or(Pose::Identity()));
+  w.pod<uint32_t>(uint32_t(prior_held_.size()));
+  for (const PriorHeldStretch& h : prior_held_) {
+    w.pod<int32_t>(h.first_index);
+    w.pod<int32_t>(h.last_index);
+    w.pod<int32_t>(h.directions);
+    for (const std::string* name : {&h.first_name, &h.last_name}) {
+      w.pod<uint32_t>(uint32_t(name->size()));
+      w.bytes(name->data(), name->size());
+    }
+  }
   keyframes_.write(out);
 }
 
@@ -339,6 +368,21 @@ void Tracker::read(ByteReader& in) {
   const Pose given = readPose(in, "recorded pose");
   last_given_.reset();
   if (has_given) last_given_ = given;
+  const uint32_t stretches = in.read<uint32_t>("prior-held stretch count");
+  if (uint64_t(stretches) * 20 > in.remaining()) in.fail("prior-held stretch count " + std::to_string(stretches));
+  prior_held_.clear();
+  for (uint32_t i = 0; i < stretches; ++i) {
+    PriorHeldStretch h;
+    h.first_index = in.read<int32_t>("prior-held stretch start");
+    h.last_index = in.read<int32_t>("prior-held stretch end");
+    h.directions = in.read<int32_t>("prior-held directions");
+    if (h.first_index < 0 || h.last_index < h.first_index || h.directions < 1 || h.directions > 6)
+      in.fail("a prior-held stretch of frames " + std::to_string(h.first_index) + "-" + std::to_string(h.last_index) +
+              " with " + std::to_string(h.directions) + " directions");
+    h.first_name = in.readString("prior-held stretch's first frame name");
+    h.last_name = in.readString("prior-held stretch's last frame name");
+    prior_held_.push_back(std::move(h));
+  }
   keyframes_.read(in);
 }
 

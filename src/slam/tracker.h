@@ -8,11 +8,12 @@
 //   Lost       each frame tries candidate poses: the last good one, and the keyframes nearest by
 //              appearance code, also moved by the point features they (and the last good frame)
 //              share with the frame; ICP from each against the model raycast from there, judged
-//              strictly, and only a view that pins all six directions down is taken.
+//              strictly; a view that leaves a direction unmeasured is not taken.
 //   Probation  a relocalised pose must track for a few frames before fusion resumes; their poses
 //              are pending until then, and dropped if the pose does not hold.
 // Keyframes are harvested while tracking is good and the view is new (slam/keyframes.h).
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "core/frame.h"
@@ -45,14 +46,26 @@ struct TrackerParams {
   float max_turn_deg_s = 180.f;
   float reach_slack_m = 0.3f;
   float reach_slack_deg = 30.f;
-  // A relocalised pose must be pinned down by the geometry in all six directions: a view of a
+  // A relocalised pose must be pinned down by the geometry in every direction: a view of a
   // corridor along its length, or of one wall, aligns as well anywhere along it (the tracker
-  // leaves such a direction to the motion prior, which a lost camera does not have). The ring
-  // corridor's first 520 frames with frames 400-429 left out: relocalised 3.4 m off and tracked
-  // there (ATE 100.7 cm, 451 of 490 frames posed); refused, the rest of that leg stays lost
-  // (2.1 cm, 398 posed). A view with a free direction is lost the same way at the true pose.
-  bool relocalise_only_pinned = true;
+  // leaves such a direction to the motion prior, which a lost camera does not have). The weakest
+  // direction's share of the point-to-plane constraint, beyond the model normals' own scatter
+  // (FrameResult::weakest_direction_share), must reach this. Measured at the relocalised poses:
+  // the ring corridor's wrong ones -0.0024 to -0.0015 (2.4 to 3.4 m off; with 30 frames left out
+  // at frame 400 of 520 the run's ATE was 100.7 cm, refused 2.1 cm, and the rest of that leg
+  // stays lost); 7-Scenes kitchen's right ones after 60 blank frames 0.0048 to 0.0061.
+  float relocalise_min_direction_share = 0.0025f;  // 0: any view
   void validate() const;
+};
+
+// A stretch of tracked frames whose views left directions to the motion prior (a corridor seen
+// along its length, one wall: fusion/tracking.cpp solveIncrement): their poses follow the
+// camera's own motion there, and can drift along those directions without any check noticing.
+struct PriorHeldStretch {
+  int first_index = 0, last_index = 0;  // in the run's frame sequence
+  std::string first_name, last_name;
+  int directions = 0;                   // the most that any of its frames left
+  int frames() const { return last_index - first_index + 1; }
 };
 
 class Tracker {
@@ -73,6 +86,8 @@ class Tracker {
   const KeyframeStore& keyframes() const { return keyframes_; }
   KeyframeStore& keyframes() { return keyframes_; }
   int relocalisations() const { return relocalisations_; }
+  // In frame order; a frame or two measured in full between two such frames does not split one.
+  const std::vector<PriorHeldStretch>& priorHeldStretches() const { return prior_held_; }
   // The frame whose pose is the last good one: after a gap the camera is most often still near
   // where it was last seen, so its features are the first a lost frame is matched against. The
   // session hands it over after each step (no copy); -1 / false when none is kept.
@@ -98,6 +113,7 @@ class Tracker {
   void markLastGood(const Pose& T, const RgbdFrame& frame);
   // Marks a tracked result lost when it matched far less than the recent frames.
   void rejectCollapse(FrameResult& r) const;
+  void notePriorHeld(const RgbdFrame& frame, const FrameResult& r);
 
   Pipeline& pipeline_;
   PoseSource poses_;
@@ -114,6 +130,7 @@ class Tracker {
   std::optional<RgbdFrame> last_good_frame_;   // that frame, once handed over
   std::optional<FrameFeatures> last_good_features_;  // its features, computed when first needed
   std::optional<Pose> last_given_;             // GivenIcp: the recorded pose of the previous frame
+  std::vector<PriorHeldStretch> prior_held_;
 };
 
 }  // namespace vf::slam

@@ -70,6 +70,8 @@ TEST(Tracker, ARunThatStartsBlankStartsItsMapAtTheFirstFrameWithDepth) {
   EXPECT_TRUE(first.result.integrated);
   EXPECT_TRUE(first.result.T_world_cam.isApprox(Pose::Identity()));
   for (int i = 4; i < 12; ++i) EXPECT_TRUE(tracker.process(teddy.load(i)).result.integrated) << "frame " << i;
+  // The teddy's views measure every direction: nothing left to the motion prior.
+  EXPECT_TRUE(tracker.priorHeldStretches().empty());
 }
 
 TEST(LoopClosure, TwoViewsOfDifferentPlacesAreNotALoop) {

@@ -1,9 +1,10 @@
-// Relocalisation in the synthetic ring corridor (issue 36): after frames left out the camera is
-// further down a corridor whose walls, floor and ceiling look alike all along it. A relocalised
+// The tracker's decisions in the synthetic ring corridor (issue 36). Where a view leaves a
+// direction unmeasured, the motion prior carries it, and the run says where (slam/tracker.h
+// PriorHeldStretch). And relocalisation: after frames left out the camera is further down a corridor whose walls, floor and ceiling look alike all along it. A relocalised
 // pose there aligns as well anywhere along the corridor, and a tracker that takes one fuses the
 // walk that follows metres from where it was (a doubled corridor).
 // A relocalisation must pin the camera down in all six directions (slam/tracker.h,
-// TrackerParams::relocalise_only_pinned): until a view does, the frames stay lost, and the map
+// TrackerParams::relocalise_min_direction_share): until a view does, the frames stay lost, and the map
 // keeps to where the camera really was. Full Kinect v1 resolution.
 #include <gtest/gtest.h>
 
@@ -62,11 +63,40 @@ TEST(CorridorRelocalisation, AfterAGapNoFrameIsFusedAtAPoseTheCorridorLeavesFree
   EXPECT_LT(pinned.worst_cm, 5.0) << "worst at walk frame " << pinned.worst_frame << " of " << pinned.after_gap
                                   << " fused after the gap";
   slam::TrackerParams any_view;
-  any_view.relocalise_only_pinned = false;
+  any_view.relocalise_min_direction_share = 0;
   const Fused unpinned = trackAcrossGap(60, 200, gap, any_view);
   EXPECT_GT(unpinned.after_gap, 0);
   EXPECT_GT(unpinned.worst_cm, 20.0) << "a relocalisation along the corridor no longer goes wrong here; "
                                      << unpinned.after_gap << " frames fused after the gap";
+}
+
+// The walk starts down a corridor whose far end lies beyond the depth range: walls, floor and
+// ceiling say nothing about the walk along it, and the tracker reports the frames where the
+// motion prior carried that direction, from the second frame on.
+TEST(CorridorTracker, ReportsWhereTheMotionPriorCarriedThePose) {
+  RoomScanOptions options = scanDefaults(Scene::kCorridor);
+  options.frames = 30;
+  const RoomScanSource source(options);
+  Pipeline pipeline(PipelineParams{}, source.depthIntrinsics(), Device::Cpu);
+  slam::Tracker tracker(pipeline, PoseSource::Icp);
+  for (int i = 0; i < source.size(); ++i) ASSERT_TRUE(tracker.process(source.load(i)).result.tracked) << "frame " << i;
+  const std::vector<slam::PriorHeldStretch>& held = tracker.priorHeldStretches();
+  ASSERT_FALSE(held.empty());
+  EXPECT_LE(held[0].first_index, 2);
+  EXPECT_GE(held[0].frames(), 25);
+  EXPECT_GE(held[0].directions, 1);
+  EXPECT_EQ(held[0].first_name, source.load(held[0].first_index).name);
+
+  // Kept across a checkpoint of the tracker's state.
+  std::vector<uint8_t> bytes;
+  tracker.write(bytes);
+  Pipeline other(PipelineParams{}, source.depthIntrinsics(), Device::Cpu);
+  slam::Tracker restored(other, PoseSource::Icp);
+  ByteReader in(bytes.data(), bytes.size(), "tracker state");
+  restored.read(in);
+  ASSERT_EQ(restored.priorHeldStretches().size(), held.size());
+  EXPECT_EQ(restored.priorHeldStretches()[0].last_name, held[0].last_name);
+  EXPECT_EQ(restored.priorHeldStretches()[0].frames(), held[0].frames());
 }
 
 }  // namespace
