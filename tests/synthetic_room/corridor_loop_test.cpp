@@ -58,5 +58,40 @@ TEST(CorridorLoops, TwoViewsDownOneCorridorLegAreNotALoop) {
   EXPECT_EQ(slam::detectLoops(corner, params, &stats).size(), 1u);
 }
 
+// The walk back to its start meets the first pass's keyframes 35 cm off where its odometry puts
+// them, and the corridor's plain walls give the point features little to agree on. The corner
+// seen again (frames 139 and 141), the odometry 30 cm and 5 degrees off, and no features: aligned
+// coarse to fine, a loop at the true relative pose; from the odometry's guess at 5 cm alone, too
+// few partners to align at all.
+TEST(CorridorLoops, AReturnFarOffItsOdometryIsStillALoop) {
+  RoomScanOptions options = scanDefaults(Scene::kCorridor);
+  options.frames = 145;
+  const RoomScanSource source(options);
+  slam::LoopParams params;
+  params.max_code_dissimilarity = 1.f;
+  KeyframeStore corner;
+  Keyframe first = keyframeOf(source, 139);
+  first.features = {};
+  const Pose truth = source.load(139).T_world_cam_given->inverse() * *source.load(141).T_world_cam_given;
+  Keyframe again = keyframeOf(source, 141);
+  again.frame_index = 239;
+  again.features = {};
+  Pose drift = Pose::Identity();
+  drift.linear() = Eigen::AngleAxisd(5.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  drift.translation() = Eigen::Vector3d(0.2, 0.05, 0.22);  // 30 cm
+  again.T_world_cam = truth * drift;
+  corner.add(std::move(first));
+  corner.add(std::move(again));
+  slam::LoopStats stats;
+  const std::vector<slam::PoseGraphEdge> loops = slam::detectLoops(corner, params, &stats);
+  ASSERT_EQ(loops.size(), 1u);
+  const Pose error = truth.inverse() * loops[0].T_from_to;
+  EXPECT_LT(error.translation().norm(), 0.02);
+  EXPECT_LT(Eigen::AngleAxisd(error.linear()).angle() * 180.0 / M_PI, 1.0);
+  // The fine stage alone from there: nothing.
+  EXPECT_FALSE(slam::alignClouds(corner[1].cloud, corner[0].cloud, corner[0].T_world_cam.inverse() * corner[1].T_world_cam,
+                                 0.05f, 20));
+}
+
 }  // namespace
 }  // namespace vf::synth
