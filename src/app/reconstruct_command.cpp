@@ -203,8 +203,7 @@ void runReconstruct(const ReconstructOptions& o) {
   }
 
   printTrackingSummary(run.frameCount(), run.lostFrames(), run.framesFused(), run.tracker().relocalisations());
-  // Half a second at 30 Hz: shorter stretches drift by millimetres.
-  printPriorHeld(run.tracker().priorHeldStretches(), 15);
+  printPriorHeld(run.tracker().priorHeldStretches());
   if (run.framesFused() == 0) throw Error(nothingFusedMessage(o, run));
   if (labeled) printLabelSummary(labeled->stats(), labeled->classes(), run.frameCount());
   // A resumed run counted only the frames after the checkpoint: still a fair share.
@@ -236,6 +235,7 @@ void runReconstruct(const ReconstructOptions& o) {
     figures.frames = run.frameCount();
     figures.fused = run.framesFused();
     figures.relocalisations = run.tracker().relocalisations();
+    figures.prior_held_frames = priorHeldFrames(run.tracker().priorHeldStretches());
     figures.resumed_after_frame = first;
     figures.lost = run.lostFrames();
     figures.seconds = wall_s;

@@ -37,15 +37,28 @@ void printTrackingSummary(int frames, const std::vector<LostFrame>& lost, int fr
   }
 }
 
-void printPriorHeld(const std::vector<slam::PriorHeldStretch>& stretches, int min_frames) {
+namespace {
+
+std::vector<const slam::PriorHeldStretch*> reportedPriorHeld(const std::vector<slam::PriorHeldStretch>& stretches) {
   std::vector<const slam::PriorHeldStretch*> long_ones;
-  int frames = 0, most = 0;
   for (const slam::PriorHeldStretch& s : stretches)
-    if (s.frames() >= min_frames) {
-      long_ones.push_back(&s);
-      frames += s.frames();
-      most = std::max(most, s.directions);
-    }
+    if (s.frames() >= kPriorHeldReportFrames) long_ones.push_back(&s);
+  return long_ones;
+}
+
+}  // namespace
+
+int priorHeldFrames(const std::vector<slam::PriorHeldStretch>& stretches) {
+  int frames = 0;
+  for (const slam::PriorHeldStretch* s : reportedPriorHeld(stretches)) frames += s->frames();
+  return frames;
+}
+
+void printPriorHeld(const std::vector<slam::PriorHeldStretch>& stretches) {
+  const std::vector<const slam::PriorHeldStretch*> long_ones = reportedPriorHeld(stretches);
+  const int frames = priorHeldFrames(stretches);
+  int most = 0;
+  for (const slam::PriorHeldStretch* s : long_ones) most = std::max(most, s->directions);
   if (long_ones.empty()) return;
   const std::string unmeasured = most == 1 ? "a direction" : "up to " + std::to_string(most) + " directions";
   std::printf("motion prior: for %d frames in %zu stretch%s the view left %s unmeasured (one wall, a corridor along "
@@ -151,10 +164,11 @@ std::string runFiguresJson(const RunFigures& f) {
   char numbers[512];
   std::snprintf(numbers, sizeof numbers,
                 "\"frames\": %d, \"tracked\": %d, \"fused\": %d, \"lost\": %zu, \"relocalisations\": %d, "
+                "\"prior_held_frames\": %d, "
                 "\"resumed_after_frame\": %d, \"seconds\": %.3f, \"peak_mib\": %.1f, \"bricks\": %d, "
                 "\"active_voxels\": %zu",
                 f.frames, f.frames - int(f.lost.size()), f.fused, f.lost.size(), f.relocalisations,
-                f.resumed_after_frame, f.seconds, peakResidentMiB(), f.bricks, f.active_voxels);
+                f.prior_held_frames, f.resumed_after_frame, f.seconds, peakResidentMiB(), f.bricks, f.active_voxels);
   return std::string("{") + numbers + ", \"device\": " + jsonString(f.device) + ", \"lost_by_reason\": {" + reasons +
          "}}\n";
 }

@@ -15,9 +15,13 @@ namespace vf::app {
 
 // "tracked N of M frames, fused K", then the frames without a pose, counted by reason.
 void printTrackingSummary(int frames, const std::vector<LostFrame>& lost, int frames_fused, int relocalisations);
-// The stretches of at least `min_frames` frames whose poses the motion prior carried in some
-// direction (slam/tracker.h PriorHeldStretch): where the trajectory can have drifted unseen.
-void printPriorHeld(const std::vector<slam::PriorHeldStretch>& stretches, int min_frames);
+// The stretches of at least kPriorHeldReportFrames frames whose poses the motion prior carried in
+// some direction (slam/tracker.h PriorHeldStretch): where the trajectory can have drifted unseen.
+// Half a second at 30 Hz: shorter stretches drift by millimetres.
+constexpr int kPriorHeldReportFrames = 15;
+void printPriorHeld(const std::vector<slam::PriorHeldStretch>& stretches);
+// The frames in those stretches.
+int priorHeldFrames(const std::vector<slam::PriorHeldStretch>& stretches);
 // "loop closure: N keyframes, K candidate pairs checked, F loops found, A hold; frames moved ...".
 void printLoopClosure(const slam::GlobalReport& report, bool enabled);
 void printLabelSummary(const LabelStats& stats, const ClassTable& classes, int frames);
@@ -36,6 +40,7 @@ double peakResidentMiB();
 // instead of parsing the printed lines.
 struct RunFigures {
   int frames = 0, fused = 0, relocalisations = 0;
+  int prior_held_frames = 0;    // priorHeldFrames
   int resumed_after_frame = 0;  // frames a --resume found done; 0 for a run from the start
   std::vector<LostFrame> lost;
   double seconds = 0;  // this process's frame loop (the part after the checkpoint on --resume)
@@ -43,7 +48,7 @@ struct RunFigures {
   size_t active_voxels = 0;
   std::string device;
 };
-// One JSON object: frames, tracked, fused, lost, lost_by_reason, relocalisations,
+// One JSON object: frames, tracked, fused, lost, lost_by_reason, relocalisations, prior_held_frames,
 // resumed_after_frame, seconds, peak_mib (this process), bricks, active_voxels, device.
 std::string runFiguresJson(const RunFigures& figures);
 

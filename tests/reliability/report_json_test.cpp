@@ -46,6 +46,9 @@ TEST(ReportJson, FiguresAreThePrintedOnes) {
   EXPECT_EQ(figure(json, "bricks"), printed(run.output, R"(volume: (\d+) bricks)"));
   EXPECT_EQ(figure(json, "active_voxels"), printed(run.output, R"(\((\d+) active voxels\))"));
   EXPECT_EQ(figure(json, "lost"), 0);
+  // The teddy's views measure every direction: no stretch left to the motion prior, none printed.
+  EXPECT_EQ(figure(json, "prior_held_frames"), 0);
+  EXPECT_EQ(run.output.find("motion prior:"), std::string::npos) << run.output;
   EXPECT_GT(figure(json, "seconds"), 0);
   EXPECT_GT(figure(json, "peak_mib"), 10);
   EXPECT_NE(json.find("\"device\": \"cpu\""), std::string::npos) << json;
