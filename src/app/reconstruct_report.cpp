@@ -56,10 +56,12 @@ int priorHeldFrames(const std::vector<slam::PriorHeldStretch>& stretches) {
 
 void printPriorHeld(const std::vector<slam::PriorHeldStretch>& stretches) {
   const std::vector<const slam::PriorHeldStretch*> long_ones = reportedPriorHeld(stretches);
-  const int frames = priorHeldFrames(stretches);
-  int most = 0;
-  for (const slam::PriorHeldStretch* s : long_ones) most = std::max(most, s->directions);
   if (long_ones.empty()) return;
+  int frames = 0, most = 0;
+  for (const slam::PriorHeldStretch* s : long_ones) {
+    frames += s->frames();
+    most = std::max(most, s->directions);
+  }
   const std::string unmeasured = most == 1 ? "a direction" : "up to " + std::to_string(most) + " directions";
   std::printf("motion prior: for %d frames in %zu stretch%s the view left %s unmeasured (one wall, a corridor along "
               "its length) and the camera's own motion carried %s; poses there can have drifted unseen:",
