@@ -7,7 +7,8 @@
 namespace vf::slam {
 
 std::vector<Pose> optimiseTrajectory(KeyframeStore& keyframes, const std::vector<Pose>& poses,
-                                     const std::vector<int>& anchors, const GlobalParams& params, GlobalReport* report) {
+                                     const std::vector<int>& anchors, const std::vector<PriorHeldStretch>& prior_held,
+                                     const GlobalParams& params, GlobalReport* report) {
   if (anchors.size() != poses.size()) throw Error("optimiseTrajectory: one anchor per pose");
   GlobalReport r;
   r.keyframes = keyframes.size();
@@ -17,7 +18,7 @@ std::vector<Pose> optimiseTrajectory(KeyframeStore& keyframes, const std::vector
     return out;
   }
   LoopStats stats;
-  std::vector<PoseGraphEdge> edges = odometryEdges(keyframes, params.loops);
+  std::vector<PoseGraphEdge> edges = odometryEdges(keyframes, params.loops, prior_held);
   const size_t odometry = edges.size();
   const std::vector<PoseGraphEdge> loops = detectLoops(keyframes, params.loops, &stats);
   edges.insert(edges.end(), loops.begin(), loops.end());

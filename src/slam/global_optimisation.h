@@ -8,6 +8,7 @@
 #include "slam/keyframes.h"
 #include "slam/loop_closure.h"
 #include "slam/pose_graph.h"
+#include "slam/prior_held.h"
 
 namespace vf::slam {
 
@@ -38,10 +39,12 @@ struct GlobalReport {
   bool moved() const { return moved_enough; }
 };
 
-// poses[k] was tracked after keyframe anchors[k] (-1: before any keyframe; such a pose stays).
+// poses[k] was tracked after keyframe anchors[k] (-1: before any keyframe; such a pose stays);
+// prior_held: where tracking leaned on the motion prior (its odometry is trusted less there).
 // Moves the keyframes' poses in `keyframes` and returns the frames' poses; unchanged when no loop
 // holds.
 std::vector<Pose> optimiseTrajectory(KeyframeStore& keyframes, const std::vector<Pose>& poses,
-                                     const std::vector<int>& anchors, const GlobalParams& params, GlobalReport* report);
+                                     const std::vector<int>& anchors, const std::vector<PriorHeldStretch>& prior_held,
+                                     const GlobalParams& params, GlobalReport* report);
 
 }  // namespace vf::slam

@@ -1,6 +1,7 @@
 #include "slam/loop_closure.h"
 
 #include <algorithm>
+#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <set>
 
@@ -24,6 +25,35 @@ Eigen::Matrix<double, 6, 6> edgeInformation(const CloudAlignment& a, double sigm
   return a.information * (3.0 / translation_trace) / (sigma_m * sigma_m);
 }
 
+// The information with the variance of the translation along each of its directions grown by
+// (sigma_m * min(1, free_share / share))^2, share being the direction's share of the translation
+// block's trace: a direction constrained that little or less is free, and the error along a
+// direction constrained more falls as its constraint grows (a bias in the residuals moves a
+// least-squares solution by the bias over the curvature).
+Eigen::Matrix<double, 6, 6> weakenFreeTranslation(const Eigen::Matrix<double, 6, 6>& information, double sigma_m,
+                                                  double free_share) {
+  const Eigen::Matrix<double, 6, 6> symmetric = 0.5 * (information + information.transpose());
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> translation(symmetric.bottomRightCorner<3, 3>());
+  const double trace = translation.eigenvalues().sum();
+  if (!(trace > 0)) return information;
+  Eigen::Matrix<double, 6, 6> added = Eigen::Matrix<double, 6, 6>::Zero();
+  for (int k = 0; k < 3; ++k) {
+    const double share = std::max(0.0, translation.eigenvalues()(k)) / trace;
+    const double sigma = sigma_m * std::min(1.0, free_share / std::max(share, 1e-12));
+    const Eigen::Vector3d v = translation.eigenvectors().col(k);
+    added.bottomRightCorner<3, 3>() += sigma * sigma * v * v.transpose();
+  }
+  // Covariance = information^-1, on a floor of 1e-9 of the strongest eigenvalue (as the pose
+  // graph's square root does).
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eigen(symmetric);
+  const double floor = std::max(1e-12, 1e-9 * eigen.eigenvalues().maxCoeff());
+  const Eigen::Matrix<double, 6, 6> covariance = eigen.eigenvectors() *
+                                                 eigen.eigenvalues().cwiseMax(floor).cwiseInverse().asDiagonal() *
+                                                 eigen.eigenvectors().transpose();
+  const Eigen::Matrix<double, 6, 6> weakened = (covariance + added).inverse();
+  return 0.5 * (weakened + weakened.transpose());
+}
+
 // The two views aligned from `start` with partners up to 30 cm apart, then 10, then 5 cm (the
 // last stage's statistics are those judged). From 5 cm alone, a start as far off as the ring
 // corridor's odometry at its return (35 cm) finds too few partners: 315 of its 365 candidate
@@ -41,11 +71,13 @@ std::optional<CloudAlignment> alignCoarseToFine(const KeyframeCloud& source, con
 void LoopParams::validate() const {
   if (min_separation_frames < 1 || candidates_by_code < 0 || candidates_by_place < 0 || !(min_overlap > 0) ||
       !(max_rmse_m > 0) || !(loop_sigma_m > 0) || !(odometry_sigma_m > 0) || !(odometry_drift >= 0) ||
+      !(prior_held_drift >= 0) || !(free_translation_share >= 0 && free_translation_share <= 1.0 / 3.0) ||
       !(max_candidate_distance_m > 0) || !(min_translation_share >= 0 && min_translation_share <= 1.0 / 3.0))
     throw Error("LoopParams: separations, counts and limits must be positive, min_translation_share in [0, 1/3]");
 }
 
-std::vector<PoseGraphEdge> odometryEdges(const KeyframeStore& keyframes, const LoopParams& params) {
+std::vector<PoseGraphEdge> odometryEdges(const KeyframeStore& keyframes, const LoopParams& params,
+                                         const std::vector<PriorHeldStretch>& prior_held) {
   std::vector<PoseGraphEdge> edges;
   for (int i = 0; i + 1 < keyframes.size(); ++i) {
     const Keyframe& a = keyframes[i];
@@ -62,6 +94,13 @@ std::vector<PoseGraphEdge> odometryEdges(const KeyframeStore& keyframes, const L
       // Tracking drifts by about a percent of the distance travelled, and a few millimetres anyway.
       const double sigma = params.odometry_sigma_m + params.odometry_drift * e.T_from_to.translation().norm();
       e.information = edgeInformation(*aligned, sigma);
+      const int frames = b.frame_index - a.frame_index;
+      const int held = priorHeldFramesBetween(prior_held, a.frame_index, b.frame_index);
+      if (held > 0 && frames > 0 && params.prior_held_drift > 0) {
+        const double held_distance = e.T_from_to.translation().norm() * held / frames;
+        e.information = weakenFreeTranslation(e.information, params.prior_held_drift * held_distance,
+                                              params.free_translation_share);
+      }
     } else {
       e.information.setZero();
       e.information.diagonal() << 1.0 / 3e-4, 1.0 / 3e-4, 1.0 / 3e-4, 1e4, 1e4, 1e4;

@@ -281,7 +281,8 @@ bool Reconstruction::optimise() {
   std::vector<Pose> poses;
   for (const StampedPose& p : progress_.trajectory) poses.push_back(p.T_world_cam);
   const std::vector<Pose> moved =
-      slam::optimiseTrajectory(tracker_->keyframes(), poses, anchors_, options_.global, &global_);
+      slam::optimiseTrajectory(tracker_->keyframes(), poses, anchors_, tracker_->priorHeldStretches(),
+                                options_.global, &global_);
   if (!global_.moved()) return false;
   // The second pass: the first pass's volume is dropped before the new one grows.
   odometry_ = progress_.trajectory;

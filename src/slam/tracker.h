@@ -20,6 +20,7 @@
 #include "fusion/pipeline.h"
 #include "slam/frame_features.h"
 #include "slam/keyframes.h"
+#include "slam/prior_held.h"
 
 namespace vf::slam {
 
@@ -56,16 +57,6 @@ struct TrackerParams {
   // stays lost); 7-Scenes kitchen's right ones after 60 blank frames 0.0048 to 0.0061.
   float relocalise_min_direction_share = 0.0025f;  // 0: any view
   void validate() const;
-};
-
-// A stretch of tracked frames whose views left directions to the motion prior (a corridor seen
-// along its length, one wall: fusion/tracking.cpp solveIncrement): their poses follow the
-// camera's own motion there, and can drift along those directions without any check noticing.
-struct PriorHeldStretch {
-  int first_index = 0, last_index = 0;  // in the run's frame sequence
-  std::string first_name, last_name;
-  int directions = 0;                   // the most that any of its frames left
-  int frames() const { return last_index - first_index + 1; }
 };
 
 class Tracker {

@@ -2,9 +2,13 @@
 // corridor, 3 m apart, align well wherever one is slid along the other (walls, floor and ceiling
 // run along it; its end is beyond the depth range), so their alignment cannot say where the
 // camera came back: not a loop (slam/loop_closure.h, LoopParams::min_translation_share). A view
-// of the corner with its plant and door pins the translation down and still makes one. Full
-// Kinect v1 resolution, as the keyframes of a run.
+// of the corner with its plant and door pins the translation down and still makes one. And the
+// odometry between keyframes down one leg, trusted less along it where tracking leaned on the
+// motion prior. Full Kinect v1 resolution, as the keyframes of a run.
 #include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
 
 #include "room_source.h"
 #include "slam/loop_closure.h"
@@ -91,6 +95,50 @@ TEST(CorridorLoops, AReturnFarOffItsOdometryIsStillALoop) {
   // The fine stage alone from there: nothing.
   EXPECT_FALSE(slam::alignClouds(corner[1].cloud, corner[0].cloud, corner[0].T_world_cam.inverse() * corner[1].T_world_cam,
                                  0.05f, 20));
+}
+
+// The standard deviation of an edge's translation along a unit direction (of its own frame), m.
+double sigmaAlong(const slam::PoseGraphEdge& edge, const Eigen::Vector3d& direction) {
+  const Eigen::Matrix<double, 6, 6> covariance = edge.information.inverse();
+  return std::sqrt(direction.dot(covariance.bottomRightCorner<3, 3>() * direction));
+}
+
+// Where the tracker's view left the corridor's direction to the motion prior, its odometry slid
+// 17-20 cm between keyframes (frames 551-580 of the walk) while the edges claimed 2-3 cm, and the
+// pose graph spread the loops' correction everywhere but there. Two keyframes down the north leg
+// at their true poses (frames 551 and 566, 50 cm apart, their depth leaving the corridor's
+// direction nearly free): across frames the prior held, the edge's uncertainty along the
+// corridor grows to the size of such a slide (LoopParams::prior_held_drift; 4.1 -> 25 cm), and
+// across the corridor stays as it was (4.8 mm); across frames tracked in full nothing changes.
+TEST(CorridorLoops, OdometryAcrossFramesTheMotionPriorHeldIsTrustedLessAlongTheCorridor) {
+  RoomScanOptions options = scanDefaults(Scene::kCorridor);
+  options.frames = 567;
+  const RoomScanSource source(options);
+  KeyframeStore leg;
+  for (const int index : {551, 566}) {
+    Keyframe k = keyframeOf(source, index);
+    k.T_world_cam = *source.load(index).T_world_cam_given;
+    leg.add(std::move(k));
+  }
+  const slam::LoopParams params;
+  const std::vector<slam::PoseGraphEdge> measured = slam::odometryEdges(leg, params);
+  const std::vector<slam::PriorHeldStretch> held{{540, 570, "", "", 2}};
+  const std::vector<slam::PoseGraphEdge> doubted = slam::odometryEdges(leg, params, held);
+  ASSERT_EQ(measured.size(), 1u);
+  ASSERT_EQ(doubted.size(), 1u);
+
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> translation(measured[0].information.bottomRightCorner<3, 3>());
+  const Eigen::Vector3d along = translation.eigenvectors().col(0), across = translation.eigenvectors().col(2);
+  const double distance = measured[0].T_from_to.translation().norm();
+  // The weakest direction is the corridor's: the camera walks along it.
+  EXPECT_GT(std::abs(along.dot(measured[0].T_from_to.translation().normalized())), 0.9);
+  EXPECT_LT(sigmaAlong(measured[0], along), 0.05);
+  EXPECT_GT(sigmaAlong(doubted[0], along), 0.8 * params.prior_held_drift * distance);
+  EXPECT_LT(sigmaAlong(doubted[0], across), 1.5 * sigmaAlong(measured[0], across));
+
+  // A stretch that ends before the edge's frames leaves it as it was.
+  const std::vector<slam::PriorHeldStretch> earlier{{500, 551, "", "", 2}};
+  EXPECT_TRUE(slam::odometryEdges(leg, params, earlier)[0].information.isApprox(measured[0].information));
 }
 
 }  // namespace
