@@ -100,13 +100,18 @@ def same_product(a, b):
 
 
 def printed_figures(reconstruct_output):
-    """frames, tracked, lost and bricks as `vdbfuse reconstruct` prints them for a person."""
+    """frames, tracked, lost, prior-held frames and bricks as `vdbfuse reconstruct` prints them for a
+    person (no "motion prior: for N frames" line: none)."""
     m = re.search(r"tracked (\d+) of (\d+) frames", reconstruct_output)
     check(m, f"no 'tracked N of M frames' in:\n{reconstruct_output}")
     tracked, frames = int(m.group(1)), int(m.group(2))
     m = re.search(r"volume: (\d+) bricks", reconstruct_output)
     check(m, f"no 'volume: N bricks' in:\n{reconstruct_output}")
-    return {"frames": frames, "tracked": tracked, "lost": frames - tracked, "bricks": int(m.group(1))}
+    bricks = int(m.group(1))
+    m = re.search(r"motion prior: for (\d+) frames", reconstruct_output)
+    prior_held = int(m.group(1)) if m else 0
+    return {"frames": frames, "tracked": tracked, "lost": frames - tracked, "prior_held_frames": prior_held,
+            "bricks": bricks}
 
 
 def printed_ate_cm(evaluate_output):

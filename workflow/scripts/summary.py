@@ -1,5 +1,6 @@
 """summary.csv and summary.md: one row per capture, from the files its jobs left. Figures come
-from the commands' own outputs: reconstruct's --report-json (frames, tracked, lost, bricks), the
+from the commands' own outputs: reconstruct's --report-json (frames, tracked, lost, prior_held_frames:
+the frames of long stretches whose pose the motion prior carried, where drift can hide; bricks), the
 evaluate report (ATE), and each step's usage file (wall seconds, peak memory, from GNU time). A
 capture whose step failed gets status "failed: STEP" and the last error line of that step's log."""
 import csv
@@ -7,8 +8,8 @@ import io
 import json
 import os
 
-COLUMNS = ["name", "status", "frames", "tracked", "lost", "ate_cm", "seconds", "peak_mib", "bricks", "outputs",
-           "error"]
+COLUMNS = ["name", "status", "frames", "tracked", "lost", "prior_held_frames", "ate_cm", "seconds", "peak_mib",
+           "bricks", "outputs", "error"]
 
 
 def _read_json(path):
@@ -51,7 +52,7 @@ def capture_row(capture, folder):
     row = dict.fromkeys(COLUMNS, "")
     row["name"] = capture.name
     report = _read_json(os.path.join(folder, "reconstruct.json")) or {}
-    for key in ("frames", "tracked", "lost", "bricks"):
+    for key in ("frames", "tracked", "lost", "prior_held_frames", "bricks"):
         row[key] = report.get(key, "")
     ate = ate_rmse_cm(os.path.join(folder, "evaluate.txt"))
     row["ate_cm"] = "" if ate is None else f"{ate:.3f}"
