@@ -44,11 +44,12 @@ struct LoopParams {
   // switched off two right loops (163-1178, 171-1187, 1 cm from the truth) that disagreed. Edges
   // between keyframes whose two clouds leave a direction this free are the ones that slid: of
   // the corridor's 126, the 13 with a weakest translation share below 0.0035 erred by 72 mm on
-  // average (up to 203 mm), the others by 2-11 mm. So across held frames the edge's variance
-  // along each translation direction grows by (prior_held_drift times the distance the held
-  // frames travelled, times min(1, free_translation_share / the direction's share))^2: in full
-  // along a free direction, less along one its depth constrains (loop_closure.cpp
-  // weakenFreeTranslation). Corridor ATE 14.0 -> 5.9 cm; a run without such frames is unchanged.
+  // average (up to 203 mm), the others 2-11 mm (means by share band). So across held frames the
+  // edge's variance along each translation direction grows by (prior_held_drift times the
+  // distance the held frames travelled, times min(1, free_translation_share / the direction's
+  // share))^2: in full along a free direction, less along one its depth constrains
+  // (loop_closure.cpp weakenFreeTranslation). Corridor ATE 14.0 -> 5.9 cm; a run without such
+  // frames is unchanged.
   double prior_held_drift = 0.5;
   double free_translation_share = 0.003;
   void validate() const;
