@@ -9,14 +9,14 @@
 #include "fusion/stage_timer.h"
 #include "io/labeled_source.h"
 #include "slam/global_optimisation.h"
-#include "slam/tracker.h"
+#include "slam/prior_held.h"
 
 namespace vf::app {
 
 // "tracked N of M frames, fused K", then the frames without a pose, counted by reason.
 void printTrackingSummary(int frames, const std::vector<LostFrame>& lost, int frames_fused, int relocalisations);
 // The stretches of at least kPriorHeldReportFrames frames whose poses the motion prior carried in
-// some direction (slam/tracker.h PriorHeldStretch): where the trajectory can have drifted unseen.
+// some direction (slam/prior_held.h): where the trajectory can have drifted unseen.
 // Half a second at 30 Hz: shorter stretches drift by millimetres.
 constexpr int kPriorHeldReportFrames = 15;
 void printPriorHeld(const std::vector<slam::PriorHeldStretch>& stretches);

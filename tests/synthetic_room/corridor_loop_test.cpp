@@ -33,12 +33,23 @@ Keyframe keyframeOf(const RoomScanSource& source, int index) {
   return k;
 }
 
-TEST(CorridorLoops, TwoViewsDownOneCorridorLegAreNotALoop) {
+// The corridor walk's first `frames` frames.
+RoomScanSource corridorWalk(int frames) {
   RoomScanOptions options = scanDefaults(Scene::kCorridor);
-  options.frames = 545;
-  const RoomScanSource source(options);
+  options.frames = frames;
+  return RoomScanSource(options);
+}
+
+// The default loop verification, offered every pair whatever their appearance codes.
+slam::LoopParams whateverTheCodes() {
   slam::LoopParams params;
   params.max_code_dissimilarity = 1.f;
+  return params;
+}
+
+TEST(CorridorLoops, TwoViewsDownOneCorridorLegAreNotALoop) {
+  const RoomScanSource source = corridorWalk(545);
+  slam::LoopParams params = whateverTheCodes();
 
   KeyframeStore leg;  // frames 444 and 541: 3.06 m apart down the same leg
   leg.add(keyframeOf(source, 444));
@@ -52,8 +63,7 @@ TEST(CorridorLoops, TwoViewsDownOneCorridorLegAreNotALoop) {
 
   // The corner with the plant, seen again from a few centimetres away (frame 141, labelled 100
   // frames later: a camera that came back): a loop.
-  params = slam::LoopParams();
-  params.max_code_dissimilarity = 1.f;
+  params = whateverTheCodes();
   KeyframeStore corner;
   corner.add(keyframeOf(source, 139));
   Keyframe again = keyframeOf(source, 141);
@@ -68,11 +78,8 @@ TEST(CorridorLoops, TwoViewsDownOneCorridorLegAreNotALoop) {
 // coarse to fine, a loop at the true relative pose; from the odometry's guess at 5 cm alone, too
 // few partners to align at all.
 TEST(CorridorLoops, AReturnFarOffItsOdometryIsStillALoop) {
-  RoomScanOptions options = scanDefaults(Scene::kCorridor);
-  options.frames = 145;
-  const RoomScanSource source(options);
-  slam::LoopParams params;
-  params.max_code_dissimilarity = 1.f;
+  const RoomScanSource source = corridorWalk(145);
+  const slam::LoopParams params = whateverTheCodes();
   KeyframeStore corner;
   Keyframe first = keyframeOf(source, 139);
   first.features = {};
@@ -111,9 +118,7 @@ double sigmaAlong(const slam::PoseGraphEdge& edge, const Eigen::Vector3d& direct
 // corridor grows to the size of such a slide (LoopParams::prior_held_drift; 4.1 -> 25 cm), and
 // across the corridor stays as it was (4.8 mm); across frames tracked in full nothing changes.
 TEST(CorridorLoops, OdometryAcrossFramesTheMotionPriorHeldIsTrustedLessAlongTheCorridor) {
-  RoomScanOptions options = scanDefaults(Scene::kCorridor);
-  options.frames = 567;
-  const RoomScanSource source(options);
+  const RoomScanSource source = corridorWalk(567);
   KeyframeStore leg;
   for (const int index : {551, 566}) {
     Keyframe k = keyframeOf(source, index);

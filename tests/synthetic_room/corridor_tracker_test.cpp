@@ -1,5 +1,5 @@
 // The tracker's decisions in the synthetic ring corridor (issue 36). Where a view leaves a
-// direction unmeasured, the motion prior carries it, and the run says where (slam/tracker.h
+// direction unmeasured, the motion prior carries it, and the run says where (slam/prior_held.h
 // PriorHeldStretch). And relocalisation: after frames left out the camera is further down a corridor whose walls, floor and ceiling look alike all along it. A relocalised
 // pose there aligns as well anywhere along the corridor, and a tracker that takes one fuses the
 // walk that follows metres from where it was (a doubled corridor).
