@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <random>
 #include <vector>
 
 #include "corridor_geometry.h"
@@ -97,42 +99,73 @@ class WalkClock {
   std::vector<double> times_;
 };
 
-// Three longer looks at a side wall, sin^2 bumps: (start s, length s, yaw degrees, + = left).
+// Longer looks at a side wall, sin^2 bumps: (start s, length s, yaw degrees, + = left).
 struct SideLook {
   double start_s, length_s, yaw_deg;
 };
-constexpr SideLook kSideLooks[] = {
-    {3.0, 3.0, 40.0},    // the second door of the block, on the south leg
-    {17.0, 3.0, -40.0},  // the plain outer wall of the north leg
-    {35.5, 3.0, -35.0},  // the outer door of the south leg, on the second pass
+constexpr int kSideLookCount = 3;
+
+// How the camera is carried: the phases of its swing, nod, roll and weave, and where it looks
+// at a side wall. Walk 0 is the walk this file's header describes; the others draw their
+// phases and looks from the walk number, with the same amplitudes, so that they stay as far
+// from the walls and turn as fast.
+struct CarryStyle {
+  double swing_phase[2] = {0.5, 2.0}, pitch_phase = 1.0, roll_phase = 2.0, weave_phase[2] = {0.0, 1.0};
+  SideLook looks[kSideLookCount] = {
+      {3.0, 3.0, 40.0},    // the second door of the block, on the south leg
+      {17.0, 3.0, -40.0},  // the plain outer wall of the north leg
+      {35.5, 3.0, -35.0},  // the outer door of the south leg, on the second pass
+  };
 };
 
-double sideLookYaw(double t) {
+CarryStyle carryStyle(uint64_t walk) {
+  CarryStyle style;
+  if (walk == 0) return style;
+  // Raw 64-bit draws scaled by hand: the standard distributions differ between libraries, and a
+  // walk must be the same wherever it is generated.
+  std::mt19937_64 draw(walk);
+  auto uniform = [&](double a, double b) { return a + (b - a) * double(draw() >> 11) * 0x1.0p-53; };
+  for (double& p : style.swing_phase) p = uniform(0, 2 * M_PI);
+  style.pitch_phase = uniform(0, 2 * M_PI);
+  style.roll_phase = uniform(0, 2 * M_PI);
+  for (double& p : style.weave_phase) p = uniform(0, 2 * M_PI);
+  // One look in each third of the default walk's 40 s, apart by at least a second.
+  for (int i = 0; i < kSideLookCount; ++i) {
+    const double side = draw() >> 63 ? 1.0 : -1.0;
+    style.looks[i] = {uniform(2.0 + 13.0 * i, 11.0 + 13.0 * i), 3.0, side * uniform(30.0, 40.0)};
+  }
+  return style;
+}
+
+double sideLookYaw(const CarryStyle& style, double t) {
   double yaw = 0;
-  for (const SideLook& l : kSideLooks) {
+  for (const SideLook& l : style.looks) {
     const double x = (t - l.start_s) / l.length_s;
     if (x > 0 && x < 1) yaw += l.yaw_deg * kDeg * std::pow(std::sin(M_PI * x), 2);
   }
   return yaw;
 }
 
-Pose walkPose(const WalkClock& clock, double t, double close) {
+Pose walkPose(const WalkClock& clock, const CarryStyle& style, double t, double close) {
   const double walked = clock.distanceAt(t);
   const double loop = kWalkStart_m + walked, length = loopLength();
   const CentrePoint c = centreLine(loop);
   const double phase = 2 * M_PI * loop / length;  // whole periods per loop: the weave comes back
-  const double weave = 0.11 * std::sin(3 * phase) + 0.04 * std::sin(7 * phase + 1);  // + = left
+  const double weave = 0.11 * std::sin(3 * phase + style.weave_phase[0]) +
+                       0.04 * std::sin(7 * phase + style.weave_phase[1]);  // + = left
   const double lateral = (1 - close) * weave - close * (0.5 * L::kWidth_m - kCloseWallDistance_m);
   const Eigen::Vector2d left(-std::sin(c.heading), std::cos(c.heading));
   const Eigen::Vector2d xy = c.position + lateral * left;
   const double height = 1.45 + 0.03 * std::sin(5 * phase) + 0.006 * std::sin(2 * M_PI * walked / 0.7);
 
-  const double swing = 12 * kDeg * std::sin(2 * M_PI * t / 8.0 + 0.5) + 5 * kDeg * std::sin(2 * M_PI * t / 3.3 + 2) +
-                       sideLookYaw(t);
+  const double swing = 12 * kDeg * std::sin(2 * M_PI * t / 8.0 + style.swing_phase[0]) +
+                       5 * kDeg * std::sin(2 * M_PI * t / 3.3 + style.swing_phase[1]) + sideLookYaw(style, t);
   const double shake_yaw = 0.3 * kDeg * std::sin(7.0 * t + 1);
   const double yaw = c.heading + (1 - close) * swing - close * 0.5 * M_PI + shake_yaw;
-  const double pitch = (1 - close) * (8 * kDeg + 3 * kDeg * std::sin(2 * M_PI * t / 5.3 + 1)) + 0.3 * kDeg * std::sin(9.0 * t);
-  const double roll = (1 - close) * 2 * kDeg * std::sin(2 * M_PI * t / 6.1 + 2) + 0.3 * kDeg * std::sin(8.0 * t + 2);
+  const double pitch = (1 - close) * (8 * kDeg + 3 * kDeg * std::sin(2 * M_PI * t / 5.3 + style.pitch_phase)) +
+                       0.3 * kDeg * std::sin(9.0 * t);
+  const double roll = (1 - close) * 2 * kDeg * std::sin(2 * M_PI * t / 6.1 + style.roll_phase) +
+                      0.3 * kDeg * std::sin(8.0 * t + 2);
   return headingPose(Eigen::Vector3d(xy.x(), xy.y(), height), yaw, pitch, roll);
 }
 
@@ -155,13 +188,14 @@ double closeWallBlend(const FrameRange& r, int index) {
   return smoothstep(std::min(in, out));
 }
 
-Trajectory corridorPath(int frames, const std::optional<FrameRange>& close_wall) {
+Trajectory corridorPath(int frames, const std::optional<FrameRange>& close_wall, uint64_t walk) {
   const WalkClock clock(double(frames) / kFrameRateHz);
+  const CarryStyle style = carryStyle(walk);
   Trajectory path;
   path.reserve(size_t(std::max(frames, 0)));
   for (int i = 0; i < frames; ++i) {
     const double close = close_wall ? closeWallBlend(*close_wall, i) : 0.0;
-    path.push_back({frameTimestamp(i), walkPose(clock, frameTimestamp(i) - kFirstTimestamp_s, close)});
+    path.push_back({frameTimestamp(i), walkPose(clock, style, frameTimestamp(i) - kFirstTimestamp_s, close)});
   }
   return path;
 }

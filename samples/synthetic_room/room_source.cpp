@@ -35,6 +35,8 @@ RoomScanSource::RoomScanSource(RoomScanOptions options)
                 " is outside 16..8192 pixels");
   if (options_.close_wall && options_.scene != Scene::kCorridor)
     throw Error("--close-wall: only the corridor has a plain wall to walk along (add --scene corridor)");
+  if (options_.walk != 0 && options_.scene != Scene::kCorridor)
+    throw Error("--walk: only the corridor has other walks (add --scene corridor)");
   std::vector<std::pair<std::string, FrameRange>> runs;
   for (const FrameRange& r : options_.gaps) runs.push_back({"--gap", r});
   for (const FrameRange& r : options_.blanks) runs.push_back({"--blank", r});
@@ -43,7 +45,7 @@ RoomScanSource::RoomScanSource(RoomScanOptions options)
   checkDisjoint(runs);
 
   intrinsics_ = kinectIntrinsics(options_.width, options_.height);
-  walk_ = options_.scene == Scene::kCorridor ? corridorPath(options_.frames, options_.close_wall)
+  walk_ = options_.scene == Scene::kCorridor ? corridorPath(options_.frames, options_.close_wall, options_.walk)
                                              : cameraPath(options_.frames);
   for (int i = 0; i < options_.frames; ++i) {
     bool left_out = false;
@@ -116,6 +118,7 @@ std::string RoomScanSource::description() const {
   for (const FrameRange& r : options_.gaps) text += ", gap " + toString(r);
   for (const FrameRange& r : options_.blanks) text += ", blank " + toString(r);
   if (options_.close_wall) text += ", close wall " + toString(*options_.close_wall);
+  if (options_.walk != 0) text += ", walk " + std::to_string(options_.walk);
   return text;
 }
 

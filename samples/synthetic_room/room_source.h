@@ -34,6 +34,7 @@ struct RoomScanOptions {
   std::vector<FrameRange> gaps;    // walk frames left out of the sequence
   std::vector<FrameRange> blanks;  // walk frames written with no depth and black colour
   std::optional<FrameRange> close_wall;  // corridor only
+  uint64_t walk = 0;                     // corridor only: 0 the default walk, others vary it (corridor_path.h)
 };
 // A scene's defaults: the room's 300 frames with its sensor; the corridor's 1200 frames (38 m)
 // with kinectV1Sensor().

@@ -83,7 +83,7 @@ struct Options {
   std::string output, evaluate, trajectory, align = "ate", size = "640x480";
   std::string scene = "room", depth_model;  // depth_model empty: the scene's
   int frames = 0;                            // 0: the scene's
-  uint64_t seed = 1;
+  uint64_t seed = 1, walk = 0;
   bool force = false, no_noise = false;
   std::vector<std::string> gaps, blanks;
   std::string close_wall;
@@ -96,6 +96,7 @@ RoomScanOptions scanOptions(const Options& o) {
   RoomScanOptions scan = scanDefaults(parseScene(o.scene));
   if (o.frames > 0) scan.frames = o.frames;
   scan.seed = o.seed;
+  scan.walk = o.walk;
   if (o.depth_model == "tum") scan.sensor = SensorModel{};
   if (o.depth_model == "kinect-v1") scan.sensor = kinectV1Sensor();
   scan.sensor.noise = !o.no_noise;
@@ -290,6 +291,10 @@ int main(int argc, char** argv) {
                                        "the corridor 1200, 38 m)")
       ->check(CLI::Range(1, 100000));
   app.add_option("--seed", o.seed, "seed of the sensor noise")->capture_default_str();
+  app.add_option("--walk", o.walk,
+                 "corridor: 0 the default walk; another number carries the camera differently along the same path "
+                 "(other phases of its swing and weave, its looks at a side wall at other times)")
+      ->capture_default_str();
   app.add_option("--size", o.size, "image size WIDTHxHEIGHT (the Kinect's view scaled)")->capture_default_str();
   app.add_option("--depth-model", o.depth_model,
                  "tum: noise sigma(z), 1/5000 m steps (the room's default); kinect-v1: the same noise, rounded to "

@@ -83,6 +83,48 @@ TEST(SyntheticCorridor, WalkGoesMoreThan30MetresRoundTheLoopAndComesBackToItsSta
     ASSERT_GT(corridor.distanceToSurface(p.T_world_cam.translation().cast<float>()), 0.4f) << p.timestamp;
 }
 
+// Walks 1.. carry the camera differently along the same loop: as far from every solid, as slow
+// to turn, back at the start at the same frame, but looking elsewhere.
+TEST(SyntheticCorridor, OtherWalksKeepTheLoopAndLookElsewhere) {
+  const Room corridor = makeCorridor();
+  const Trajectory base = corridorPath(kCorridorDefaultFrames);
+  const int loop_frame = int(std::lround(corridorLoopTime_s() * kFrameRateHz));
+  for (uint64_t walk : {1, 2, 3, 4, 5}) {
+    SCOPED_TRACE("walk " + std::to_string(walk));
+    const Trajectory path = corridorPath(kCorridorDefaultFrames, std::nullopt, walk);
+    ASSERT_EQ(path.size(), base.size());
+    const PathStats s = pathStats(path);
+    EXPECT_LE(s.max_speed_m_s, 1.1);
+    EXPECT_LT(s.max_turn_rate_deg_s, 90.0);
+    EXPECT_GT(s.min_height_m, 1.35);
+    EXPECT_LT(s.max_height_m, 1.55);
+    EXPECT_LT((path[size_t(loop_frame)].T_world_cam.translation() - path[0].T_world_cam.translation()).norm(), 0.05);
+    double largest_yaw_difference_deg = 0;
+    for (size_t i = 0; i < path.size(); ++i) {
+      ASSERT_GT(corridor.distanceToSurface(path[i].T_world_cam.translation().cast<float>()), 0.4f) << i;
+      const Eigen::Vector3d a = base[i].T_world_cam.linear().col(2), b = path[i].T_world_cam.linear().col(2);
+      const double yaw_a = std::atan2(a.y(), a.x()), yaw_b = std::atan2(b.y(), b.x());
+      largest_yaw_difference_deg =
+          std::max(largest_yaw_difference_deg, std::abs(std::remainder(yaw_a - yaw_b, 2 * M_PI)) * 180.0 / M_PI);
+    }
+    EXPECT_GT(largest_yaw_difference_deg, 20.0) << "it looks elsewhere than walk 0";
+  }
+  // A walk is a function of its number: generated twice, it is the same.
+  const Trajectory again = corridorPath(60, std::nullopt, 3), once = corridorPath(60, std::nullopt, 3);
+  for (size_t i = 0; i < once.size(); ++i) EXPECT_TRUE(once[i].T_world_cam.isApprox(again[i].T_world_cam)) << i;
+}
+
+TEST(SyntheticCorridor, AWalkNumberNeedsTheCorridor) {
+  RoomScanOptions o = scanDefaults(Scene::kRoom);
+  o.walk = 2;
+  try {
+    RoomScanSource source(o);
+    FAIL() << "a walk number was accepted for the room";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("--walk"), std::string::npos) << e.what();
+  }
+}
+
 TEST(SyntheticCorridor, BothPassesSeeTheWallsRoundTheStart) {
   const Room corridor = makeCorridor();
   const SurfaceSamples samples = sampleSurface(corridor, 0.05f);
