@@ -5,12 +5,12 @@
 # carried differently, so that the hard views come at other moments), and the real samples with
 # ground truth in ../shared/data (TUM fr1/xyz 100 frames, fr3/teddy 60, 7-Scenes redkitchen 100
 # and 500).
-# A change to the motion prior or the tracker's checks can win on one corridor and lose a whole
-# walk on another one or at the other resolution (the camera-centre hold of the 2026-12-06
-# notes: 640x480 5.9 -> 1.5 cm, 320x240 7.5 -> 84 cm), and the short real samples barely move:
-# the table shows all of them at once. Per case: frames tracked and lost, loops found and
-# holding, ATE of the written (loop-closed) trajectory and of the first pass (the trajectory
-# of --loop-closure off), and the wall time.
+# A change to the motion prior or the tracker's checks can win on one walk and lose another, or
+# at the other resolution, while the short real samples barely move (the camera-centre hold of
+# the 2026-12-06 notes, on walk 0: 640x480 5.9 -> 1.5 cm, 320x240 7.5 -> 84; on walk 1: 77.5 -> 3.2
+# and 96.5 -> 24.5): the table shows all of them at once. Per case: frames tracked and lost,
+# loops found and holding, ATE of the written (loop-closed) trajectory and of the first pass
+# (the trajectory of --loop-closure off), and the wall time.
 # Exit status 0 when every run finished (whatever its figures), 2 when a step failed.
 #
 # Usage: scripts/tracking_judge.sh [BUILD_DIR]
@@ -20,7 +20,7 @@
 #   RECONSTRUCT="..." adds options to every reconstruction;
 #   KEEP=dir keeps corridors, trajectories and logs there (a second run with the same KEEP
 #   reuses the corridors it generated), else a temp folder.
-# Time on two cores: about 1.5 min a 320x240 corridor, 2.5 min a 640x480 one, 1 min the real four.
+# Time on two cores: about 1.5-2.5 min a 320x240 corridor, 2.5-3.5 min a 640x480 one, 1 min the real four.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD_DIR=${1:-build}
