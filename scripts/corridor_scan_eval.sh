@@ -16,6 +16,7 @@
 #   RECONSTRUCT="..." adds options to both reconstructions; SKIP_GIVEN=1 leaves out the true-pose run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/eval_common.sh
 BUILD_DIR=build
 if [ $# -gt 0 ] && [ "$1" != "--" ]; then BUILD_DIR=$1; shift; fi
 [ $# -gt 0 ] && [ "$1" == "--" ] && shift
@@ -23,18 +24,10 @@ SCAN=(--scene corridor "$@")
 read -r -a EXTRA <<< "${RECONSTRUCT:-}"
 VF="$BUILD_DIR/src/app/vdbfuse"
 SYNTH="$BUILD_DIR/samples/synthetic_room/vdbfuse-synth-room"
-for bin in "$VF" "$SYNTH"; do
-  [ -x "$bin" ] || { echo "corridor_scan_eval: $bin is missing; build it: ninja -C $BUILD_DIR vdbfuse vdbfuse-synth-room" >&2; exit 2; }
-done
+require_built corridor_scan_eval "$VF" "$SYNTH"
 [ -x /usr/bin/time ] || { echo "corridor_scan_eval: /usr/bin/time is missing (apt-get install time)" >&2; exit 2; }
 
-if [ -n "${KEEP:-}" ]; then
-  OUT=$KEEP
-  mkdir -p "$OUT"
-else
-  OUT=$(mktemp -d)
-  trap 'rm -rf "$OUT"' EXIT
-fi
+open_output_folder
 step() { echo; echo "=== $*"; }
 fail() { echo "corridor_scan_eval: $* (logs in $OUT unless it was a temp folder; KEEP=dir keeps them)" >&2; exit 2; }
 
@@ -71,7 +64,7 @@ fi
 field() {  # field NAME WHAT
   case $2 in
     tracked) grep -E "^tracked " "$OUT/$1.reconstruct.txt" | head -1 | cut -d';' -f1 ;;
-    ate) awk '/^ATE/ {a=1} a && $1=="rmse" {print $2; exit}' "$OUT/$1.ate.txt" 2>/dev/null ;;
+    ate) ate_rmse_cm 2>/dev/null <"$OUT/$1.ate.txt" ;;
     completion) sed -nE 's/^completion +([0-9.]+) %.*/\1/p' "$OUT/$1.eval.txt" ;;
     mean) sed -nE 's/^accuracy +mean ([0-9.]+) mm.*/\1/p' "$OUT/$1.eval.txt" ;;
     median) sed -nE 's/^accuracy .*median ([0-9.]+) mm.*/\1/p' "$OUT/$1.eval.txt" ;;

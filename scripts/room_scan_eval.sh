@@ -9,6 +9,7 @@
 #   FRAMES=300 SEED=1 KEEP=dir (keep the room, scene, mesh and logs there instead of a temp folder)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/eval_common.sh
 BUILD_DIR=build
 if [ $# -gt 0 ] && [ "$1" != "--" ]; then BUILD_DIR=$1; shift; fi
 [ $# -gt 0 ] && [ "$1" == "--" ] && shift
@@ -17,19 +18,11 @@ FRAMES=${FRAMES:-300}
 SEED=${SEED:-1}
 VF="$BUILD_DIR/src/app/vdbfuse"
 ROOM_TOOL="$BUILD_DIR/samples/synthetic_room/vdbfuse-synth-room"
-for bin in "$VF" "$ROOM_TOOL"; do
-  [ -x "$bin" ] || { echo "room_scan_eval: $bin is missing; build it: ninja -C $BUILD_DIR vdbfuse vdbfuse-synth-room" >&2; exit 2; }
-done
+require_built room_scan_eval "$VF" "$ROOM_TOOL"
 [ -x /usr/bin/time ] || { echo "room_scan_eval: /usr/bin/time is missing (apt-get install time)" >&2; exit 2; }
 
-if [ -n "${KEEP:-}" ]; then
-  OUT=$KEEP
-  mkdir -p "$OUT"
-  rm -rf "$OUT/room"
-else
-  OUT=$(mktemp -d)
-  trap 'rm -rf "$OUT"' EXIT
-fi
+open_output_folder
+rm -rf "$OUT/room"  # a kept folder's room from an earlier run
 
 step() { echo; echo "=== $*"; }
 fail() { echo "room_scan_eval: $* (logs in $OUT unless it was a temp folder; KEEP=dir keeps them)" >&2; exit 2; }
@@ -62,7 +55,7 @@ fps_stages=$(sed -nE 's/.*-> ([0-9.]+) frames\/s from the four stages.*/\1/p' "$
 peak_printed=$(sed -nE 's/.*peak memory ([0-9.]+) MiB.*/\1/p' "$OUT/reconstruct.txt" | tail -1)
 rss_kib=$(sed -nE 's/.*Maximum resident set size \(kbytes\): ([0-9]+).*/\1/p' "$OUT/time.txt")
 tracked=$(grep -E "^tracked " "$OUT/reconstruct.txt" | head -1 | cut -d';' -f1)
-ate_cm=$(awk '/^ATE/ {a=1} a && $1=="rmse" {print $2; exit}' "$OUT/ate.txt")
+ate_cm=$(ate_rmse_cm <"$OUT/ate.txt")
 completion=$(sed -nE 's/^completion +([0-9.]+) %.*/\1/p' "$OUT/completion.txt")
 accuracy=$(sed -nE 's/^accuracy +(.*)$/\1/p' "$OUT/completion.txt")
 rss_mib=$(awk -v k="$rss_kib" 'BEGIN {printf "%.0f", k / 1024}')

@@ -23,6 +23,7 @@
 # Time on two cores: about 1.5-2.5 min a 320x240 corridor, 2.5-3.5 min a 640x480 one, 1 min the real four.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/eval_common.sh
 BUILD_DIR=${1:-build}
 SIZES=${SIZES-640x480 320x240}
 WALKS=${WALKS-0 1 2}
@@ -31,16 +32,8 @@ DATA=${DATA:-../shared/data}
 read -r -a EXTRA <<< "${RECONSTRUCT:-}"
 VF="$BUILD_DIR/src/app/vdbfuse"
 SYNTH="$BUILD_DIR/samples/synthetic_room/vdbfuse-synth-room"
-for bin in "$VF" "$SYNTH"; do
-  [ -x "$bin" ] || { echo "tracking_judge: $bin is missing; build it: ninja -C $BUILD_DIR vdbfuse vdbfuse-synth-room" >&2; exit 2; }
-done
-if [ -n "${KEEP:-}" ]; then
-  OUT=$KEEP
-  mkdir -p "$OUT"
-else
-  OUT=$(mktemp -d)
-  trap 'rm -rf "$OUT"' EXIT
-fi
+require_built tracking_judge "$VF" "$SYNTH"
+open_output_folder
 fail() {
   if [ -n "${KEEP:-}" ]; then echo "tracking_judge: $* (logs in $OUT)" >&2; else echo "tracking_judge: $* (KEEP=dir keeps the logs)" >&2; fi
   exit 2
@@ -48,7 +41,7 @@ fail() {
 
 ate() {  # ate TRAJECTORY GROUNDTRUTH: the ATE's rmse in cm, or "-" without a trajectory
   [ -s "$1" ] || { echo "-"; return; }
-  "$VF" evaluate --trajectory "$1" --groundtruth "$2" | awk '/^ATE/ {a=1} a && $1=="rmse" {print $2; exit}'
+  "$VF" evaluate --trajectory "$1" --groundtruth "$2" | ate_rmse_cm
 }
 
 ROWS=()
