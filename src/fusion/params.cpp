@@ -50,6 +50,8 @@ void IcpParams::validate() const {
   require(max_rotation_deg > 0, "IcpParams.max_rotation_deg", max_rotation_deg, "must be > 0");
   require(max_jump_m > 0, "IcpParams.max_jump_m", max_jump_m, "must be > 0");
   require(max_jump_deg > 0, "IcpParams.max_jump_deg", max_jump_deg, "must be > 0");
+  require(min_covered_match >= 0 && min_covered_match < 1, "IcpParams.min_covered_match", min_covered_match,
+          "must be in [0, 1)");
   require(relocalise_min_inlier_fraction >= 0 && relocalise_min_inlier_fraction < 1,
           "IcpParams.relocalise_min_inlier_fraction", relocalise_min_inlier_fraction, "must be in [0, 1)");
   require(relocalise_max_rmse_m > 0, "IcpParams.relocalise_max_rmse_m", relocalise_max_rmse_m, "must be > 0");

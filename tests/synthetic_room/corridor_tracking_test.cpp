@@ -16,18 +16,25 @@
 namespace vf::synth {
 namespace {
 
-// The worst distance, over the frames, between the motion tracked since the first frame and the
-// true one, in cm; `worst_frame` gets the walk index where it was.
-double worstDrift_cm(const RoomScanSource& source, const PipelineParams& params, int& worst_frame) {
+// How far the motion tracked since the first frame strayed from the true one, in cm, at worst
+// over the frames: as a whole, and along the true motion alone (the walk's pace), with the walk
+// index where each was.
+struct Drift {
+  double worst_cm = 0;
+  int worst_frame = 0;
+  double worst_pace_cm = 0;
+  int worst_pace_frame = 0;
+};
+
+Drift driftOf(const RoomScanSource& source, const PipelineParams& params) {
   Pipeline pipeline(params, source.depthIntrinsics(), Device::Cpu);
   Pose first_estimate, first_truth;
-  double worst_cm = 0;
-  worst_frame = 0;
+  Drift drift;
   for (int i = 0; i < source.size(); ++i) {
     const RgbdFrame frame = source.load(i);
     const FrameResult result = pipeline.processFrame(frame);
     EXPECT_TRUE(result.tracked) << "frame " << source.walkIndex(i) << ": " << result.lost_reason;
-    if (!result.tracked || !frame.T_world_cam_given) return 1e9;
+    if (!result.tracked || !frame.T_world_cam_given) return {1e9, source.walkIndex(i), 1e9, source.walkIndex(i)};
     if (i == 0) {
       first_estimate = result.T_world_cam;
       first_truth = *frame.T_world_cam_given;
@@ -36,10 +43,15 @@ double worstDrift_cm(const RoomScanSource& source, const PipelineParams& params,
     // The motion since the first frame, estimated against true, in the first camera's frame.
     const Pose estimated = first_estimate.inverse() * result.T_world_cam;
     const Pose truth = first_truth.inverse() * *frame.T_world_cam_given;
-    const double error_cm = (estimated.translation() - truth.translation()).norm() * 100.0;
-    if (error_cm > worst_cm) worst_cm = error_cm, worst_frame = source.walkIndex(i);
+    const Eigen::Vector3d error = estimated.translation() - truth.translation();
+    const double error_cm = error.norm() * 100.0;
+    if (error_cm > drift.worst_cm) drift.worst_cm = error_cm, drift.worst_frame = source.walkIndex(i);
+    if (truth.translation().norm() > 1e-6) {
+      const double pace_cm = std::abs(error.dot(truth.translation().normalized())) * 100.0;
+      if (pace_cm > drift.worst_pace_cm) drift.worst_pace_cm = pace_cm, drift.worst_pace_frame = source.walkIndex(i);
+    }
   }
-  return worst_cm;
+  return drift;
 }
 
 // The corridor walk's frames first .. end-1, tracked from a fresh start at `first`.
@@ -53,10 +65,17 @@ RoomScanSource walkStretch(int first, int end) {
 TEST(CorridorTracking, AWalkAlongACorridorWithItsEndOutOfRangeKeepsItsPace) {
   RoomScanOptions options = scanDefaults(Scene::kCorridor);
   options.frames = 26;
-  int worst_frame = 0;
-  // 25 frames walk 81 cm; the prior pulled: 0.59 cm at worst; held outright: 9.3 cm (frame 20).
-  EXPECT_LT(worstDrift_cm(RoomScanSource(options), PipelineParams{}, worst_frame), 1.5)
-      << "worst at frame " << worst_frame;
+  // 25 frames walk 81 cm. The weak directions pulled towards the prior: 1.31 cm behind or ahead
+  // at worst (frame 5); held there outright: 9.3 cm (frame 20).
+  const Drift drift = driftOf(RoomScanSource(options), PipelineParams{});
+  EXPECT_LT(drift.worst_pace_cm, 2.0) << "worst at frame " << drift.worst_pace_frame;
+  // A tilt about a line 2.6 m ahead (pitch with the camera centre rising 2.6 m per radian) is
+  // nearly free too. Held at the camera centre's prior, the walk's vertical bob is followed only
+  // in part: 2.76 cm low at frame 6, 0.31 at frame 15, 2.28 at frame 23, a cost this test
+  // states rather than hides. Held at the measured points' mean instead (before 2026-12-06) this
+  // start kept within 0.59 cm, but the whole corridor at 640x480 ended 5.9 cm (walk 0) and 77 cm
+  // (walk 1) off, against 1.5 and 3.2 cm now (scripts/tracking_judge.sh).
+  EXPECT_LT(drift.worst_cm, 3.5) << "worst at frame " << drift.worst_frame;
 }
 
 // Walking frames 150-250 round the first corner, the camera faces one blank wall for a second
@@ -66,11 +85,11 @@ TEST(CorridorTracking, AWalkAlongACorridorWithItsEndOutOfRangeKeepsItsPace) {
 // taken at face value the camera slides sideways by up to 9 cm a frame: 64 cm.
 TEST(CorridorTracking, TurningACornerFacingOneBlankWallKeepsToTheWalk) {
   const RoomScanSource source = walkStretch(150, 251);
-  int worst_frame = 0;
-  EXPECT_LT(worstDrift_cm(source, PipelineParams{}, worst_frame), 5.0) << "worst at walk frame " << worst_frame;
+  const Drift drift = driftOf(source, PipelineParams{});
+  EXPECT_LT(drift.worst_cm, 5.0) << "worst at walk frame " << drift.worst_frame;
   PipelineParams face_value;
   face_value.icp.degenerate_noise_floor = false;
-  EXPECT_GT(worstDrift_cm(source, face_value, worst_frame), 10.0) << "the corner no longer needs the noise floor";
+  EXPECT_GT(driftOf(source, face_value).worst_cm, 10.0) << "the corner no longer needs the noise floor";
 }
 
 // Walking frames 290-335 down a leg past a radiator, the geometry again leaves the walk along
@@ -82,11 +101,11 @@ TEST(CorridorTracking, TurningACornerFacingOneBlankWallKeepsToTheWalk) {
 // start at frame 290, against 123 cm from the still start.
 TEST(CorridorTracking, WalkingPastARadiatorsFinsKeepsThePace) {
   const RoomScanSource source = walkStretch(290, 336);
-  int worst_frame = 0;
-  EXPECT_LT(worstDrift_cm(source, PipelineParams{}, worst_frame), 3.0) << "worst at walk frame " << worst_frame;
+  const Drift drift = driftOf(source, PipelineParams{});
+  EXPECT_LT(drift.worst_cm, 3.0) << "worst at walk frame " << drift.worst_frame;
   PipelineParams still_start;
   still_start.icp.degenerate_start_at_prior = false;
-  EXPECT_GT(worstDrift_cm(source, still_start, worst_frame), 20.0) << "the still start no longer loses the fins";
+  EXPECT_GT(driftOf(source, still_start).worst_cm, 20.0) << "the still start no longer loses the fins";
 }
 
 }  // namespace

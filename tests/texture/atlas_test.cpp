@@ -131,13 +131,16 @@ TEST(UvAtlas, ChartsNeverShareATexelAndKeepTwoFreeTexelsBetweenThem) {
     }
   EXPECT_EQ(close, 0u);
   // The atlas uses its page: the page half as wide could not hold the charts (their rectangles
-  // fill over a quarter of this one); faces touch 19.7 % of it (gutters and shelves take the rest).
+  // fill over a quarter of this one: 36.7 %), and the faces touch 37.8 % of the texels of their
+  // charts' rectangles (gutters and the charts' own shapes take the rest). What the faces touch
+  // of the whole page follows the mesh's area: 13.9 % here, 19.7 % on the mesh that also fused
+  // frame 90 6.5 cm off (before IcpParams::min_covered_match rejected it).
   size_t used = 0;
   for (int32_t c : chart_at) used += c >= 0;
-  EXPECT_GT(double(used) / double(size_t(P) * size_t(P)), 0.15);
   double rects = 0;
   for (const AtlasChart& c : atlas.charts) rects += double(c.width) * c.height;
   EXPECT_GT(rects / (double(P) * P), 0.25);
+  EXPECT_GT(double(used) / rects, 0.3);
   // applyAtlas: uvs in [0, 1], faces unchanged in number.
   const TriangleMesh textured = applyAtlas(mesh, atlas);
   EXPECT_EQ(textured.triangleCount(), mesh.triangleCount());
