@@ -81,8 +81,8 @@ TEST(CorridorTracking, AWalkAlongACorridorWithItsEndOutOfRangeKeepsItsPace) {
 // Walking frames 150-250 round the first corner, the camera faces one blank wall for a second
 // (frames 225-235): its Kinect noise tilts the model's normals every way, so that sliding along
 // it looks 1.3-1.9 % constrained, more than the 1 % a free direction is allowed. Counted beyond
-// the normals' own scatter (0.8-0.9 % there), it is free and follows the walk: 2.6 cm at worst;
-// taken at face value the camera slides sideways by up to 9 cm a frame: 64 cm.
+// the normals' own scatter (0.8-0.9 % there), it is free and follows the walk: 2.3 cm at worst;
+// taken at face value the camera slides sideways by up to 9 cm a frame: 67 cm.
 TEST(CorridorTracking, TurningACornerFacingOneBlankWallKeepsToTheWalk) {
   const RoomScanSource source = walkStretch(150, 251);
   const Drift drift = driftOf(source, PipelineParams{});
@@ -97,8 +97,9 @@ TEST(CorridorTracking, TurningACornerFacingOneBlankWallKeepsToTheWalk) {
 // else. Started from the still guess, the coarsest level settles one fin period (4.8 cm) short of
 // the true step of 3.2 cm, and the camera walks backwards at 1.6 cm a frame (96 cm in 25 frames
 // of the whole walk). Started where the motion prior puts that direction
-// (IcpParams::degenerate_start_at_prior), it keeps the pace: 0.71 cm at worst from a fresh
-// start at frame 290, against 123 cm from the still start.
+// (IcpParams::degenerate_start_at_prior), it keeps the pace: from a fresh start at frame 290,
+// 1.17 cm along the walk and 2.17 cm in all at worst (0.71 in all with the points' mean held,
+// before 2026-12-06), against 117 cm from the still start.
 TEST(CorridorTracking, WalkingPastARadiatorsFinsKeepsThePace) {
   const RoomScanSource source = walkStretch(290, 336);
   const Drift drift = driftOf(source, PipelineParams{});
