@@ -290,20 +290,13 @@ int main(int argc, char** argv) {
   app.add_option("--frames", o.frames, "frames of the 30 Hz walk (default: the room 300, one full turn and 10 degrees; "
                                        "the corridor 1200, 38 m)")
       ->check(CLI::Range(1, 100000));
-  // An unsigned option takes -1 as 2^64 - 1: a number, but not the one meant.
-  auto zeroOrMore = [](const std::string& what) {
-    return CLI::Validator(
-        [what](std::string& value) {
-          return value.rfind('-', 0) == 0 ? what + " is 0 or more, not " + value : std::string();
-        },
-        "N >= 0");
-  };
-  app.add_option("--seed", o.seed, "seed of the sensor noise")->capture_default_str()->check(zeroOrMore("a seed"));
+  // Both are unsigned, and CLI11 would take -1 as 2^64 - 1: a number, but not the one meant.
+  app.add_option("--seed", o.seed, "seed of the sensor noise")->capture_default_str()->check(vf::app::atLeast(0));
   app.add_option("--walk", o.walk,
                  "corridor: 0 the default walk; another number carries the camera differently along the same path "
                  "(other phases of its swing and weave, its looks at a side wall at other times)")
       ->capture_default_str()
-      ->check(zeroOrMore("a walk number"));
+      ->check(vf::app::atLeast(0));
   app.add_option("--size", o.size, "image size WIDTHxHEIGHT (the Kinect's view scaled)")->capture_default_str();
   app.add_option("--depth-model", o.depth_model,
                  "tum: noise sigma(z), 1/5000 m steps (the room's default); kinect-v1: the same noise, rounded to "
