@@ -8,9 +8,9 @@
 # A change to the motion prior or the tracker's checks can win on one walk and lose another, or
 # at the other resolution, while the short real samples barely move (the camera-centre hold,
 # 2026-12-06, against the points' mean held before, on walk 0: 640x480 5.9 -> 1.5 cm, 320x240
-# 7.5 -> 84; on walk 1: 77.5 -> 3.2 and 96.5 -> 24.5): the table shows all of them at once. Per case: frames tracked and lost,
-# loops found and holding, ATE of the written (loop-closed) trajectory and of the first pass
-# (the trajectory of --loop-closure off), and the wall time.
+# 7.5 -> 84; on walk 1: 77.5 -> 3.2 and 96.5 -> 24.5): the table shows all of them at once.
+# Per case: frames tracked and lost, loops found and holding, ATE of the written (loop-closed)
+# trajectory and of the first pass (the trajectory of --loop-closure off), and the wall time.
 # Exit status 0 when every run finished (whatever its figures), 2 when a step failed.
 #
 # Usage: scripts/tracking_judge.sh [BUILD_DIR]
