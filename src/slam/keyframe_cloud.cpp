@@ -12,6 +12,7 @@ namespace vf::slam {
 KeyframeCloud makeKeyframeCloud(const DepthImage& depth, const Intrinsics& camera, float min_depth_m,
                                 float max_depth_m, int step) {
   KeyframeCloud cloud;
+  if (step <= 0) step = std::max(1, int(std::lround(double(depth.width()) / kKeyframeCloudWidth)));
   const int w = depth.width() / step, h = depth.height() / step;
   if (w < 3 || h < 3) return cloud;
   cloud.camera = camera;

@@ -1,6 +1,6 @@
 #pragma once
-// A keyframe's surface, small enough to keep for every keyframe of a long run: its depth at a
-// quarter of the frame's size, as an organised grid of camera-frame points and normals. Two
+// A keyframe's surface, small enough to keep for every keyframe of a long run: its depth on a
+// grid about 160 points wide (a quarter of a VGA frame), as camera-frame points and normals. Two
 // keyframes' clouds are aligned by point-to-plane ICP with projective association (as tracking,
 // Newcombe et al. 2011, but frame to frame and on the host): the check and the measurement of a
 // loop closure, and of the odometry between consecutive keyframes.
@@ -21,8 +21,13 @@ struct KeyframeCloud {
 };
 
 // Every `step`-th pixel's depth (the median of the valid ones in its block) within the range.
+// step 0: the grid about kKeyframeCloudWidth points wide, whatever the camera's resolution.
 KeyframeCloud makeKeyframeCloud(const DepthImage& depth, const Intrinsics& camera, float min_depth_m,
-                                float max_depth_m, int step = 4);
+                                float max_depth_m, int step = 0);
+// A quarter of a VGA frame. The grid's spacing is what its normals and the alignment's tests see:
+// at a quarter of a 320x240 frame (80x60) every normal of a corridor's walls seen at a grazing
+// angle straddled a depth step, and none of the ring corridor's 342 candidate loops aligned.
+constexpr int kKeyframeCloudWidth = 160;
 
 struct CloudAlignment {
   Pose T_target_source = Pose::Identity();
