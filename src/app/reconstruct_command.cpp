@@ -166,9 +166,13 @@ void runReconstruct(const ReconstructOptions& o) {
     first_pass_timer = run.firstPassTimer();
     first_pass_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     first_pass_frames = run.frameCount();
-    if (!o.quiet)
-      std::fprintf(stderr, "loop closure: %d of %d loops hold; fusing again at the optimised poses (frames moved up to %.1f cm)\n",
-                   report.loops_accepted, report.loops_found, 100.0 * report.largest_correction_m);
+    if (!o.quiet) {
+      const std::string maps = report.maps > 1 ? ", " + std::to_string(report.maps_joined) + " of " +
+                                                     std::to_string(report.maps - 1) + " new maps joined to the older"
+                                               : "";
+      std::fprintf(stderr, "loop closure: %d of %d loops hold%s; fusing again at the optimised poses (frames moved up to %.1f cm)\n",
+                   report.loops_accepted, report.loops_found, maps.c_str(), 100.0 * report.largest_correction_m);
+    }
     bricks_per_frame.clear();
     progress = std::make_unique<ProgressBar>(run.frameCount(), !o.quiet);
   };
@@ -235,6 +239,7 @@ void runReconstruct(const ReconstructOptions& o) {
     figures.frames = run.frameCount();
     figures.fused = run.framesFused();
     figures.relocalisations = run.tracker().relocalisations();
+    figures.maps = run.tracker().maps();
     figures.prior_held_frames = priorHeldFrames(run.tracker().priorHeldStretches());
     figures.resumed_after_frame = first;
     figures.lost = run.lostFrames();

@@ -80,9 +80,20 @@ void printLoopClosure(const slam::GlobalReport& r, bool enabled) {
   }
   std::printf("loop closure: %d keyframes, %d candidate pairs checked, %d loops found, %d hold (%d rejected)", r.keyframes,
               r.candidates, r.loops_found, r.loops_accepted, r.loops_found - r.loops_accepted);
+  if (r.maps > 1) {
+    std::printf("; tracking started %d new map%s where it was lost and could not find its map again", r.maps - 1,
+                r.maps == 2 ? "" : "s");
+    if (r.maps_joined == r.maps - 1)
+      std::printf(", %s joined to the older maps by loops", r.maps == 2 ? "it" : "all");
+    else
+      std::printf(", %d joined to the older maps by loops, %d placed only where the camera's last motion led", r.maps_joined,
+                  r.maps - 1 - r.maps_joined);
+  }
   if (r.moved())
     std::printf("; frames moved up to %.2f cm (median %.2f cm), fused again at the optimised poses\n",
                 100.0 * r.largest_correction_m, 100.0 * r.median_correction_m);
+  else if (r.maps > 1)
+    std::printf("; every map fused again into one scene\n");
   else if (r.loops_accepted > 0 && r.largest_correction_m > 0)
     std::printf("; they move no frame's view by more than %.2f cm: the first pass's poses and scene stand\n",
                 100.0 * r.largest_correction_m);
@@ -165,11 +176,11 @@ std::string runFiguresJson(const RunFigures& f) {
     reasons += (reasons.empty() ? "" : ", ") + jsonString(name) + ": " + std::to_string(count);
   char numbers[512];
   std::snprintf(numbers, sizeof numbers,
-                "\"frames\": %d, \"tracked\": %d, \"fused\": %d, \"lost\": %zu, \"relocalisations\": %d, "
+                "\"frames\": %d, \"tracked\": %d, \"fused\": %d, \"lost\": %zu, \"relocalisations\": %d, \"maps\": %d, "
                 "\"prior_held_frames\": %d, "
                 "\"resumed_after_frame\": %d, \"seconds\": %.3f, \"peak_mib\": %.1f, \"bricks\": %d, "
                 "\"active_voxels\": %zu",
-                f.frames, f.frames - int(f.lost.size()), f.fused, f.lost.size(), f.relocalisations,
+                f.frames, f.frames - int(f.lost.size()), f.fused, f.lost.size(), f.relocalisations, f.maps,
                 f.prior_held_frames, f.resumed_after_frame, f.seconds, peakResidentMiB(), f.bricks, f.active_voxels);
   return std::string("{") + numbers + ", \"device\": " + jsonString(f.device) + ", \"lost_by_reason\": {" + reasons +
          "}}\n";

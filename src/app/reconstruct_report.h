@@ -40,6 +40,7 @@ double peakResidentMiB();
 // instead of parsing the printed lines.
 struct RunFigures {
   int frames = 0, fused = 0, relocalisations = 0;
+  int maps = 1;  // the tracker's maps: one more after each loss it could not recover (slam/tracker.h)
   int prior_held_frames = 0;    // priorHeldFrames
   int resumed_after_frame = 0;  // frames a --resume found done; 0 for a run from the start
   std::vector<LostFrame> lost;
@@ -48,7 +49,7 @@ struct RunFigures {
   size_t active_voxels = 0;
   std::string device;
 };
-// One JSON object: frames, tracked, fused, lost, lost_by_reason, relocalisations, prior_held_frames,
+// One JSON object: frames, tracked, fused, lost, lost_by_reason, relocalisations, maps, prior_held_frames,
 // resumed_after_frame, seconds, peak_mib (this process), bricks, active_voxels, device.
 std::string runFiguresJson(const RunFigures& figures);
 

@@ -314,6 +314,17 @@ void Pipeline::fuseAt(const Pose& T_world_cam, FrameResult& result) {
   ++s.frames_processed;
 }
 
+void Pipeline::startNewMap() {
+  volume_.reset();  // before the new one allocates: the two need not fit at once
+  volume_ = std::make_unique<SparseVolume>(params_.volume, with_classes_, device_);
+  state_.has_prediction = false;
+  state_.prediction_windowed = false;
+  state_.last_motion = Pose::Identity();
+  state_.last_frame_committed = false;
+  model_has_intensity_ = false;
+  prediction_min_stamp_ = 0;
+}
+
 void Pipeline::skip() {
   ++state_.frames_processed;
   ++state_.frames_lost;

@@ -109,6 +109,11 @@ class Pipeline {
   // track against (a second pass at optimised poses).
   void fuseAt(const Pose& T_world_cam, FrameResult& result);
 
+  // Drops the volume and the tracking prediction (the frame counters stay): the next commit()
+  // starts a new map. The tracker's way on when the camera was lost where the old map cannot find
+  // it again (slam/tracker.h); the maps are joined after the pass, and fused again together.
+  void startNewMap();
+
   // Classes whose pixels are kept out of TSDF integration and ICP (still voted), by class id.
   void setDynamicClasses(const std::vector<int>& class_ids);
 

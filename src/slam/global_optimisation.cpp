@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/error.h"
+#include "slam/map_joining.h"
 
 namespace vf::slam {
 
@@ -12,6 +13,7 @@ std::vector<Pose> optimiseTrajectory(KeyframeStore& keyframes, const std::vector
   if (anchors.size() != poses.size()) throw Error("optimiseTrajectory: one anchor per pose");
   GlobalReport r;
   r.keyframes = keyframes.size();
+  r.maps = keyframes.size() > 0 ? keyframes[keyframes.size() - 1].map + 1 : 1;
   std::vector<Pose> out = poses;
   if (!params.loop_closure || keyframes.size() < 3) {
     if (report) *report = r;
@@ -20,16 +22,24 @@ std::vector<Pose> optimiseTrajectory(KeyframeStore& keyframes, const std::vector
   LoopStats stats;
   std::vector<PoseGraphEdge> edges = odometryEdges(keyframes, params.loops, prior_held);
   const size_t odometry = edges.size();
-  const std::vector<PoseGraphEdge> loops = detectLoops(keyframes, params.loops, &stats);
-  edges.insert(edges.end(), loops.begin(), loops.end());
+  std::vector<PoseGraphEdge> loops = detectLoops(keyframes, params.loops, &stats);
   r.candidates = stats.candidates;
   r.loops_found = stats.verified;
+  std::vector<Pose> before(size_t(keyframes.size()));
+  for (int i = 0; i < keyframes.size(); ++i) before[size_t(i)] = keyframes[i].T_world_cam;
+  const JoinedMaps joined = joinMaps(keyframes, before, loops, params.min_joining_loops);
+  r.maps_joined = joined.joined;
+  {
+    std::vector<PoseGraphEdge> kept;
+    for (size_t k = 0; k < loops.size(); ++k)
+      if (joined.keep_loop[k]) kept.push_back(loops[k]);
+    loops = std::move(kept);
+  }
+  edges.insert(edges.end(), loops.begin(), loops.end());
   if (loops.empty()) {
     if (report) *report = r;
     return out;
   }
-  std::vector<Pose> before(size_t(keyframes.size()));
-  for (int i = 0; i < keyframes.size(); ++i) before[size_t(i)] = keyframes[i].T_world_cam;
   // Loops that agree with the odometry within their own noise (all but one or two) say it has not
   // drifted beyond what a loop can measure: nothing to correct. (Frame-to-frame alignments carry the sensor's
   // per-pixel depth bias, a degree between views of TUM fr1/xyz 90 frames apart, where the
@@ -37,12 +47,13 @@ std::vector<Pose> optimiseTrajectory(KeyframeStore& keyframes, const std::vector
   // capture.)
   int disagreeing = 0;
   for (const PoseGraphEdge& loop : loops) disagreeing += edgeChi(loop, before) > params.loops_agree_chi ? 1 : 0;
-  if (disagreeing < std::min(params.min_disagreeing_loops, int(loops.size()))) {
+  // (Joined maps were moved: their loops agree with where they now start, not with the odometry.)
+  if (r.maps_joined == 0 && disagreeing < std::min(params.min_disagreeing_loops, int(loops.size()))) {
     r.loops_accepted = int(loops.size());
     if (report) *report = r;
     return out;
   }
-  const PoseGraphResult solved = optimisePoseGraph(before, edges, params.graph);
+  const PoseGraphResult solved = optimisePoseGraph(joined.poses, edges, params.graph);
   for (size_t k = odometry; k < edges.size(); ++k) r.loops_accepted += solved.loop_kept[k] ? 1 : 0;
   if (r.loops_accepted == 0) {
     if (report) *report = r;

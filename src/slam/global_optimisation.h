@@ -25,6 +25,9 @@ struct GlobalParams {
   // up to 1.8 cm and the ATE went from 0.79 to 0.87 cm).
   double loops_agree_chi = 2.0;
   int min_disagreeing_loops = 3;
+  // A map started after a loss (slam/map_joining.h) is moved onto the older ones only when at
+  // least this many loops agree on where it lies.
+  int min_joining_loops = 2;
   LoopParams loops;
   PoseGraphParams graph;
 };
@@ -36,13 +39,15 @@ struct GlobalReport {
   int loops_accepted = 0;     // that the optimised graph agrees with
   double largest_correction_m = 0, median_correction_m = 0;  // how far the frames' views moved
   bool moved_enough = false;  // the frames were moved (and are fused again)
+  int maps = 1;               // the tracker's maps (slam/tracker.h: a new one after a long loss)
+  int maps_joined = 0;        // later maps placed on the older ones by loops
   bool moved() const { return moved_enough; }
 };
 
 // poses[k] was tracked after keyframe anchors[k] (-1: before any keyframe; such a pose stays);
 // prior_held: where tracking leaned on the motion prior (its odometry is trusted less there).
 // Moves the keyframes' poses in `keyframes` and returns the frames' poses; unchanged when no loop
-// holds.
+// holds. Several maps (keyframes' `map`) are joined by their loops first (slam/map_joining.h).
 std::vector<Pose> optimiseTrajectory(KeyframeStore& keyframes, const std::vector<Pose>& poses,
                                      const std::vector<int>& anchors, const std::vector<PriorHeldStretch>& prior_held,
                                      const GlobalParams& params, GlobalReport* report);

@@ -14,9 +14,10 @@ bool KeyframeStore::isNewView(const FrameCode& code, float novelty) const {
   return true;
 }
 
-std::vector<int> KeyframeStore::nearest(const FrameCode& code, int k) const {
+std::vector<int> KeyframeStore::nearest(const FrameCode& code, int k, int map) const {
   std::vector<std::pair<float, int>> scored;
-  for (int i = 0; i < size(); ++i) scored.push_back({FernEncoder::dissimilarity(code, keyframes_[size_t(i)].code), i});
+  for (int i = 0; i < size(); ++i)
+    if (map < 0 || keyframes_[size_t(i)].map == map) scored.push_back({FernEncoder::dissimilarity(code, keyframes_[size_t(i)].code), i});
   const size_t n = std::min(scored.size(), size_t(std::max(k, 0)));
   std::partial_sort(scored.begin(), scored.begin() + long(n), scored.end());
   std::vector<int> out;
@@ -29,6 +30,7 @@ void KeyframeStore::write(std::vector<uint8_t>& out) const {
   w.pod<uint32_t>(uint32_t(keyframes_.size()));
   for (const Keyframe& k : keyframes_) {
     w.pod<int32_t>(k.frame_index);
+    w.pod<int32_t>(k.map);
     w.pose(k.T_world_cam);
     w.pod<uint32_t>(uint32_t(k.code.ferns.size()));
     w.bytes(k.code.ferns.data(), k.code.ferns.size());
@@ -59,6 +61,8 @@ void KeyframeStore::read(ByteReader& in) {
   for (uint32_t i = 0; i < n; ++i) {
     Keyframe k;
     k.frame_index = in.read<int32_t>("keyframe frame index");
+    k.map = in.read<int32_t>("keyframe map");
+    if (k.map < 0 || (!keyframes_.empty() && k.map < keyframes_.back().map)) in.fail("keyframe map numbers out of order");
     k.T_world_cam = readPose(in, "keyframe pose");
     const uint32_t ferns = in.read<uint32_t>("keyframe code length");
     const uint8_t* code = in.take(ferns, "keyframe code");

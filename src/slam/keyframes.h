@@ -14,6 +14,10 @@ namespace vf::slam {
 
 struct Keyframe {
   int frame_index = 0;      // in the run's frame sequence
+  // The map it was tracked in: a camera lost where the map could not find it again starts a new
+  // one (slam/tracker.h), whose poses are only a guess relative to the older maps' until a loop
+  // joins them (slam/global_optimisation.h).
+  int map = 0;
   Pose T_world_cam = Pose::Identity();
   FrameCode code;
   FrameFeatures features;
@@ -25,8 +29,9 @@ class KeyframeStore {
   // True when no stored keyframe's code is within `novelty` (0..1) of this one.
   bool isNewView(const FrameCode& code, float novelty) const;
   void add(Keyframe keyframe) { keyframes_.push_back(std::move(keyframe)); }
-  // Indices of the k stored keyframes whose codes are nearest, nearest first.
-  std::vector<int> nearest(const FrameCode& code, int k) const;
+  // Indices of the k stored keyframes whose codes are nearest, nearest first; of map `map` only
+  // when it is 0 or more.
+  std::vector<int> nearest(const FrameCode& code, int k, int map = -1) const;
   int size() const { return int(keyframes_.size()); }
   const Keyframe& operator[](int i) const { return keyframes_[size_t(i)]; }
   Keyframe& operator[](int i) { return keyframes_[size_t(i)]; }

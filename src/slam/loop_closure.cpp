@@ -72,7 +72,8 @@ void LoopParams::validate() const {
   if (min_separation_frames < 1 || candidates_by_code < 0 || candidates_by_place < 0 || !(min_overlap > 0) ||
       !(max_rmse_m > 0) || !(loop_sigma_m > 0) || !(odometry_sigma_m > 0) || !(odometry_drift >= 0) ||
       !(prior_held_drift >= 0) || !(free_translation_share >= 0 && free_translation_share <= 1.0 / 3.0) ||
-      !(max_candidate_distance_m > 0) || !(min_translation_share >= 0 && min_translation_share <= 1.0 / 3.0))
+      !(max_candidate_distance_m > 0) || !(min_translation_share >= 0 && min_translation_share <= 1.0 / 3.0) ||
+      !(new_map_sigma_m > 0) || !(new_map_sigma_deg > 0))
     throw Error("LoopParams: separations, counts and limits must be positive, min_translation_share in [0, 1/3]");
 }
 
@@ -86,6 +87,15 @@ std::vector<PoseGraphEdge> odometryEdges(const KeyframeStore& keyframes, const L
     e.from = i;
     e.to = i + 1;
     e.T_from_to = a.T_world_cam.inverse() * b.T_world_cam;
+    // Into a new map: only the guess of where the camera's last motion led (new_map_sigma_*).
+    if (a.map != b.map) {
+      const double sigma_rad = params.new_map_sigma_deg * M_PI / 180.0;
+      e.information.setZero();
+      e.information.diagonal() << Eigen::Vector3d::Constant(1.0 / (sigma_rad * sigma_rad)),
+          Eigen::Vector3d::Constant(1.0 / (params.new_map_sigma_m * params.new_map_sigma_m));
+      edges.push_back(e);
+      continue;
+    }
     // The information of the two views' depth at the tracked relative pose (no refinement: the
     // measurement stays the tracker's, which saw every frame in between). Where the views share
     // too little (a relocalisation across a gap), a weak isotropic information of 1 cm / 1 degree.

@@ -52,6 +52,12 @@ struct LoopParams {
   // frames is unchanged.
   double prior_held_drift = 0.5;
   double free_translation_share = 0.003;
+  // Between the last keyframe of one map and the first of the next (slam/tracker.h: a camera lost
+  // where the map could not find it again), the edge is only where the camera's last motion
+  // would have taken it: standard deviations of a walk's worth of uncertainty, so that any loop
+  // outweighs it, while a map no loop reaches still has a place.
+  double new_map_sigma_m = 1.0;
+  double new_map_sigma_deg = 30.0;
   void validate() const;
 };
 
@@ -61,8 +67,8 @@ struct LoopStats {
 };
 
 // The odometry edges between consecutive keyframes (their tracked poses, with the information of
-// their depth's alignment at that pose, weaker across frames the motion prior held), then the
-// loop edges found; node i is keyframe i.
+// their depth's alignment at that pose, weaker across frames the motion prior held, and only a
+// guess between two maps), then the loop edges found; node i is keyframe i.
 std::vector<PoseGraphEdge> odometryEdges(const KeyframeStore& keyframes, const LoopParams& params,
                                          const std::vector<PriorHeldStretch>& prior_held = {});
 std::vector<PoseGraphEdge> detectLoops(const KeyframeStore& keyframes, const LoopParams& params, LoopStats* stats);

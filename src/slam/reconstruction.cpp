@@ -55,7 +55,11 @@ Reconstruction::Reconstruction(const FrameSource& source, const ReconstructionOp
   pipeline_ = std::make_unique<Pipeline>(options_.params, source.depthIntrinsics(), options_.device,
                                          options_.with_classes);
   if (!options_.dynamic_class_ids.empty()) pipeline_->setDynamicClasses(options_.dynamic_class_ids);
-  tracker_ = std::make_unique<slam::Tracker>(*pipeline_, options_.poses, options_.tracking);
+  // A new map after a long loss is joined to the others, and fused with them, only by the second
+  // pass: a run without one keeps searching the map it has.
+  slam::TrackerParams tracking = options_.tracking;
+  if (options_.poses != PoseSource::Icp || !options_.global.loop_closure) tracking.new_map_after_s = 0;
+  tracker_ = std::make_unique<slam::Tracker>(*pipeline_, options_.poses, tracking);
   progress_.settings = options_.settings;
 }
 
@@ -283,7 +287,8 @@ bool Reconstruction::optimise() {
   const std::vector<Pose> moved =
       slam::optimiseTrajectory(tracker_->keyframes(), poses, anchors_, tracker_->priorHeldStretches(),
                                 options_.global, &global_);
-  if (!global_.moved()) return false;
+  // With several maps the first pass's volume holds only the last: all are fused again, joined or not.
+  if (!global_.moved() && tracker_->maps() == 1) return false;
   // The second pass: the first pass's volume is dropped before the new one grows.
   odometry_ = progress_.trajectory;
   for (size_t k = 0; k < moved.size(); ++k) progress_.trajectory[k].T_world_cam = moved[k];

@@ -3,7 +3,9 @@
 // (decoding ahead on a worker thread):
 //   1. tracking and fusion: the Tracker decides each frame's pose (slam/tracker.h);
 //   then the keyframes' loops are closed and the poses optimised (slam/global_optimisation.h);
-//   2. where that moved them: a fresh volume, every posed frame fused again at its new pose.
+//   2. where that moved them, or where tracking started new maps after long losses (the first
+//      pass's volume then holds only the last): a fresh volume, every posed frame fused again at
+//      its new pose.
 // It keeps the trajectory of the frames that have a pose, the report of those that have none,
 // and checkpoints in either pass (fusion/checkpoint.h). The caller (the reconstruct command, a
 // test) chooses the outputs and reacts to progress through callbacks; nothing here prints.

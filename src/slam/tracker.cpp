@@ -33,6 +33,7 @@ void TrackerParams::validate() const {
           "the relocalisation reach (speed, turn rate, slack) must be positive");
   require(min_share_of_recent_match >= 0 && min_share_of_recent_match < 1, "min_share_of_recent_match must be in [0, 1)");
   require(recent_frames >= 1 && recent_frames <= 1000, "recent_frames must be in [1, 1000]");
+  require(new_map_after_s >= 0, "new_map_after_s must be 0 (never) or more");
 }
 
 Tracker::Tracker(Pipeline& pipeline, PoseSource poses, const TrackerParams& params)
@@ -203,9 +204,12 @@ Tracker::Step Tracker::relocalise(const RgbdFrame& frame) {
       if (samePose(c, T)) return;
     candidates.push_back(T);
   };
-  std::vector<int> ids = keyframes_.nearest(encoder_.encode(frame, m.min_depth_m, m.max_depth_m), params_.relocalise_by_code);
+  if (std::isnan(lost_with_depth_since_)) lost_with_depth_since_ = frame.timestamp;
+  // Only the views of the map being tracked: the volume holds no other.
+  std::vector<int> ids =
+      keyframes_.nearest(encoder_.encode(frame, m.min_depth_m, m.max_depth_m), params_.relocalise_by_code, map_);
   for (int i = std::max(0, keyframes_.size() - params_.relocalise_recent); i < keyframes_.size(); ++i)
-    if (std::find(ids.begin(), ids.end(), i) == ids.end()) ids.push_back(i);
+    if (keyframes_[i].map == map_ && std::find(ids.begin(), ids.end(), i) == ids.end()) ids.push_back(i);
   const FrameFeatures features = extractFeatures(frame, pipeline_.intrinsics(), m.min_depth_m, m.max_depth_m);
   // Where the frame's features put it relative to a view with a known pose: by 3D-3D alignment,
   // and by perspective-n-point from the view's points (no depth needed at this frame's keypoints).
@@ -226,18 +230,9 @@ Tracker::Step Tracker::relocalise(const RgbdFrame& frame) {
     addCandidate(k.T_world_cam);
   }
   // Candidates the camera cannot have reached since it was last tracked are not tried.
-  const double elapsed_s = frame.timestamp - last_good_time_;
-  if (std::isfinite(elapsed_s) && elapsed_s > 0) {
-    const double reach_m = params_.reach_slack_m + params_.max_speed_m_s * elapsed_s;
-    const double turn_deg = params_.reach_slack_deg + params_.max_turn_deg_s * elapsed_s;
-    candidates.erase(std::remove_if(candidates.begin(), candidates.end(),
-                                    [&](const Pose& c) {
-                                      const Pose d = last_good_.inverse() * c;
-                                      return d.translation().norm() > reach_m ||
-                                             Eigen::AngleAxisd(d.linear()).angle() * 180.0 / M_PI > turn_deg;
-                                    }),
-                     candidates.end());
-  }
+  candidates.erase(std::remove_if(candidates.begin(), candidates.end(),
+                                  [&](const Pose& c) { return !reachable(c, frame.timestamp); }),
+                   candidates.end());
   std::optional<FrameResult> best;
   FrameResult closest;  // the best rejected one, for the report
   for (const Pose& candidate : candidates) {
@@ -258,6 +253,8 @@ Tracker::Step Tracker::relocalise(const RgbdFrame& frame) {
     if (!r.tracked && r.icp_inlier_fraction >= closest.icp_inlier_fraction) closest = r;
   }
   if (!best) {
+    if (params_.new_map_after_s > 0 && frame.timestamp - lost_with_depth_since_ >= double(params_.new_map_after_s))
+      return startNewMap(frame, placeNewMap(frame, features));
     FrameResult r = closest;
     r.reason = LostReason::Relocalising;
     char text[240];
@@ -283,7 +280,73 @@ Tracker::Step Tracker::relocalise(const RgbdFrame& frame) {
   return step;
 }
 
-void Tracker::harvest(const RgbdFrame& frame, const FrameResult& result) {
+Pose Tracker::extrapolatedPose(double timestamp) const {
+  const double elapsed_s = timestamp - last_good_time_;
+  if (!(last_step_s_ > 0) || !(elapsed_s > 0)) return last_good_;
+  const double steps = elapsed_s / last_step_s_;
+  const Eigen::AngleAxisd turn(last_step_.linear());
+  Eigen::Vector3d move = last_step_.translation() * steps;
+  const double reach_m = double(params_.max_speed_m_s) * elapsed_s;
+  if (move.norm() > reach_m) move *= reach_m / move.norm();
+  Pose step = Pose::Identity();
+  step.linear() = Eigen::AngleAxisd(turn.angle() * steps, turn.axis()).toRotationMatrix();
+  step.translation() = move;
+  return last_good_ * step;
+}
+
+bool Tracker::reachable(const Pose& T, double timestamp) const {
+  const double elapsed_s = timestamp - last_good_time_;
+  if (!std::isfinite(elapsed_s) || elapsed_s <= 0) return true;
+  const Pose d = last_good_.inverse() * T;
+  return d.translation().norm() <= params_.reach_slack_m + params_.max_speed_m_s * elapsed_s &&
+         Eigen::AngleAxisd(d.linear()).angle() * 180.0 / M_PI <= params_.reach_slack_deg + params_.max_turn_deg_s * elapsed_s;
+}
+
+Pose Tracker::placeNewMap(const RgbdFrame& frame, const FrameFeatures& features) {
+  const Pose guess = extrapolatedPose(frame.timestamp);
+  // The guess, and the guess panned: a walker turning a corner while the camera was lost
+  // (the ring corridor's gap at walk frame 120, 20 frames: 30 degrees in the second it took).
+  std::vector<Pose> starts{guess};
+  for (const double pan_deg : {-15.0, 15.0, -30.0, 30.0, -45.0, 45.0}) {
+    Pose panned = guess;
+    panned.linear() = guess.linear() * Eigen::AngleAxisd(pan_deg * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    starts.push_back(panned);
+  }
+  if (last_good_features_ && !features.empty()) {
+    if (const auto relative = estimateRelativePose(features, *last_good_features_))
+      starts.push_back(last_good_ * relative->T_target_source);
+    if (const auto relative = estimateRelativePoseFromPixels(features, *last_good_features_, pipeline_.intrinsics()))
+      starts.push_back(last_good_ * relative->T_target_source);
+  }
+  // Aligned to the old map where the view overlaps it, the direction the view leaves free held
+  // where the start put it: a view along a corridor still measures which way it runs.
+  std::optional<FrameResult> best;
+  for (const Pose& start : starts) {
+    if (!reachable(start, frame.timestamp)) continue;
+    pipeline_.predictForTracking(start);
+    const FrameResult r = pipeline_.track(start, TrackingCheck{start, true});
+    if (r.tracked && reachable(r.T_world_cam, frame.timestamp) &&
+        (!best || r.icp_inlier_fraction > best->icp_inlier_fraction))
+      best = r;
+  }
+  return best ? best->T_world_cam : guess;
+}
+
+Tracker::Step Tracker::startNewMap(const RgbdFrame& frame, const Pose& T) {
+  pipeline_.startNewMap();
+  ++map_;
+  Step step;
+  step.new_map = true;
+  pipeline_.commit(T, true, step.result);
+  step.result.icp_inlier_fraction = 1.f;
+  state_ = State::Tracking;
+  recent_match_.clear();
+  markLastGood(T, frame);
+  harvest(frame, step.result, true);
+  return step;
+}
+
+void Tracker::harvest(const RgbdFrame& frame, const FrameResult& result, bool force) {
   if (result.icp_inlier_fraction < params_.keyframe_min_inlier_fraction) return;
   const MeasurementParams& m = pipeline_.params().measurement;
   FrameCode code = encoder_.encode(frame, m.min_depth_m, m.max_depth_m);
@@ -294,9 +357,10 @@ void Tracker::harvest(const RgbdFrame& frame, const FrameResult& result) {
     moved_on = since.translation().norm() > params_.keyframe_distance_m ||
                Eigen::AngleAxisd(since.linear()).angle() * 180.0 / M_PI > params_.keyframe_angle_deg;
   }
-  if (!moved_on && !keyframes_.isNewView(code, params_.keyframe_novelty)) return;
+  if (!force && !moved_on && !keyframes_.isNewView(code, params_.keyframe_novelty)) return;
   Keyframe k;
   k.frame_index = frame.index;
+  k.map = map_;
   k.T_world_cam = result.T_world_cam;
   k.code = std::move(code);
   k.features = extractFeatures(frame, pipeline_.intrinsics(), m.min_depth_m, m.max_depth_m);
@@ -305,6 +369,10 @@ void Tracker::harvest(const RgbdFrame& frame, const FrameResult& result) {
 }
 
 void Tracker::markLastGood(const Pose& T, const RgbdFrame& frame) {
+  const bool consecutive = last_good_index_ == frame.index - 1 && frame.timestamp > last_good_time_;
+  last_step_ = consecutive ? last_good_.inverse() * T : Pose::Identity();
+  last_step_s_ = consecutive ? frame.timestamp - last_good_time_ : 0.0;
+  lost_with_depth_since_ = std::nan("");
   last_good_ = T;
   last_good_time_ = frame.timestamp;
   if (last_good_index_ != frame.index) {
@@ -327,6 +395,10 @@ void Tracker::write(std::vector<uint8_t>& out) const {
   w.pose(last_good_);
   w.pod(last_good_time_);
   w.pod<int32_t>(last_good_index_);
+  w.pose(last_step_);
+  w.pod(last_step_s_);
+  w.pod(lost_with_depth_since_);
+  w.pod<int32_t>(map_);
   w.pod<uint32_t>(uint32_t(recent_match_.size()));
   for (float f : recent_match_) w.pod(f);
   w.pod<uint8_t>(last_given_ ? 1 : 0);
@@ -355,6 +427,11 @@ void Tracker::read(ByteReader& in) {
   last_good_time_ = in.read<double>("last good time");
   last_good_index_ = in.read<int32_t>("last good frame index");
   if (last_good_index_ < -1) in.fail("last good frame index " + std::to_string(last_good_index_));
+  last_step_ = readPose(in, "last step");
+  last_step_s_ = in.read<double>("last step time");
+  lost_with_depth_since_ = in.read<double>("lost since");
+  map_ = in.read<int32_t>("map");
+  if (!(last_step_s_ >= 0) || map_ < 0) in.fail("a negative step time or map number");
   const uint32_t recent = in.read<uint32_t>("recent match count");
   if (recent > uint32_t(std::max(params_.recent_frames, 0))) in.fail("recent match count " + std::to_string(recent));
   recent_match_.resize(recent);
@@ -384,6 +461,9 @@ void Tracker::read(ByteReader& in) {
     prior_held_.push_back(std::move(h));
   }
   keyframes_.read(in);
+  if (keyframes_.size() > 0 && keyframes_[keyframes_.size() - 1].map > map_)
+    in.fail("a keyframe of map " + std::to_string(keyframes_[keyframes_.size() - 1].map) + " beyond the tracker's map " +
+            std::to_string(map_));
 }
 
 }  // namespace vf::slam

@@ -11,7 +11,12 @@
 //              strictly; a view that leaves a direction unmeasured is not taken.
 //   Probation  a relocalised pose must track for a few frames before fusion resumes; their poses
 //              are pending until then, and dropped if the pose does not hold.
+//   New map    a camera lost with depth in view for longer than new_map_after_s, where no
+//              candidate agreed, starts a map of its own: the volume is dropped, and the frame
+//              placed where it aligns to the old map from where the camera's last motion led
+//              (or that guess itself); loops join the maps after the pass (slam/map_joining.h).
 // Keyframes are harvested while tracking is good and the view is new (slam/keyframes.h).
+#include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
@@ -56,6 +61,15 @@ struct TrackerParams {
   // at frame 400 of 520 the run's ATE was 100.7 cm, refused 2.1 cm, and the rest of that leg
   // stays lost); 7-Scenes kitchen's right ones after 60 blank frames 0.0048 to 0.0061.
   float relocalise_min_direction_share = 0.0025f;  // 0: any view
+  // A camera lost this long with its depth in view, no candidate pose agreeing with the map, has
+  // most often walked on where the map has not been (frames dropped while walking, a covered
+  // lens): the place it is in cannot be found, and the longer it searches, the more look-alike
+  // places come within its reach. The ring corridor with 45 frames cut at frame 600 was
+  // relocalised 79 frames later 1.5 m from the truth, by a look-alike door, and its ATE was 3.8
+  // m. Instead it starts a new map and tracks on in it; the loops found after the pass place the
+  // new map against the old ones, and the second pass fuses them together (Reconstruction):
+  // 3.2 cm. 0: never (a run without that second pass: --loop-closure off, recorded poses).
+  float new_map_after_s = 0.3f;
   void validate() const;
 };
 
@@ -70,6 +84,7 @@ class Tracker {
     bool pending = false;      // its pose waits for the probation to end
     bool confirm_pending = false;  // the probation ended well: every pending pose is final now
     bool drop_pending = false;     // the probation failed: the pending frames are lost
+    bool new_map = false;          // this frame started a new map (the pipeline's volume was dropped)
   };
   Step process(const RgbdFrame& frame);
 
@@ -77,6 +92,7 @@ class Tracker {
   const KeyframeStore& keyframes() const { return keyframes_; }
   KeyframeStore& keyframes() { return keyframes_; }
   int relocalisations() const { return relocalisations_; }
+  int maps() const { return map_ + 1; }  // the first, and one more for each new map started
   // In frame order; a frame or two measured in full between two such frames does not split one.
   const std::vector<PriorHeldStretch>& priorHeldStretches() const { return prior_held_; }
   // The frame whose pose is the last good one: after a gap the camera is most often still near
@@ -93,13 +109,25 @@ class Tracker {
   Step start(const RgbdFrame& frame);
   Step trackOn(const RgbdFrame& frame);
   Step relocalise(const RgbdFrame& frame);
+  // Drops the pipeline's volume and fuses the frame at T, the first pose of a new map.
+  Step startNewMap(const RgbdFrame& frame, const Pose& T);
+  // Where a new map starts: the frame aligned to the old map, where it overlaps it, from where
+  // the camera's last motion led or where the features it shares with the last good frame put
+  // it; that guess itself where neither aligns.
+  Pose placeNewMap(const RgbdFrame& frame, const FrameFeatures& features);
+  // Where the camera would be at `timestamp` had it gone on as it moved between the last two
+  // well-tracked frames (at most max_speed_m_s).
+  Pose extrapolatedPose(double timestamp) const;
+  // Whether the camera can have reached T by `timestamp` since it was last tracked.
+  bool reachable(const Pose& T, double timestamp) const;
   Step lost(FrameResult result);
   Step withGivenPose(const RgbdFrame& frame);
   // The share of the frame's pixels with depth in range, and the median of all its readings.
   bool hasDepth(const RgbdFrame& frame, std::string* why) const;
   // The frame lost for want of depth (the report ends with `note`); nullopt when it has depth.
   std::optional<Step> lostWithoutDepth(const RgbdFrame& frame, const char* note = "");
-  void harvest(const RgbdFrame& frame, const FrameResult& result);
+  // force: the first view of a map is always kept (the frames after it are anchored to it).
+  void harvest(const RgbdFrame& frame, const FrameResult& result, bool force = false);
   Pose predictedPose(const RgbdFrame& frame) const;
   void markLastGood(const Pose& T, const RgbdFrame& frame);
   // Marks a tracked result lost when it matched far less than the recent frames.
@@ -117,6 +145,10 @@ class Tracker {
   Pose last_good_ = Pose::Identity();          // the last pose tracked well (a relocalised one once it held)
   double last_good_time_ = 0;                  // its frame's timestamp
   int last_good_index_ = -1;                   // its frame's index
+  Pose last_step_ = Pose::Identity();          // camera motion from the good frame before it (if consecutive)
+  double last_step_s_ = 0;                     // over this time (0: none)
+  double lost_with_depth_since_ = std::nan("");  // timestamp of the first lost frame with depth (NaN: none)
+  int map_ = 0;                                // the map tracking is in
   std::vector<float> recent_match_;            // inlier fractions of the last tracked frames, oldest first
   std::optional<RgbdFrame> last_good_frame_;   // that frame, once handed over
   std::optional<FrameFeatures> last_good_features_;  // its features, computed when first needed

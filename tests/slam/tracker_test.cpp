@@ -1,7 +1,8 @@
 // The tracker's decisions on real frames (slam/tracker.h): a frame from another place is held
 // back and not fused, tracking comes back after it through relocalisation and a probation, a
-// run that starts with blank frames starts its map at the first frame with depth, and two views
-// of different places are not taken for a loop.
+// run that starts with blank frames starts its map at the first frame with depth, a camera lost
+// where the map cannot find it starts a new one, and two views of different places are not taken
+// for a loop.
 #include <gtest/gtest.h>
 
 #include "io/dataset_layouts.h"
@@ -72,6 +73,61 @@ TEST(Tracker, ARunThatStartsBlankStartsItsMapAtTheFirstFrameWithDepth) {
   for (int i = 4; i < 12; ++i) EXPECT_TRUE(tracker.process(teddy.load(i)).result.integrated) << "frame " << i;
   // The teddy's views measure every direction: nothing left to the motion prior.
   EXPECT_TRUE(tracker.priorHeldStretches().empty());
+}
+
+// Teddy frames 0-9, then the kitchen's frames as if the camera, lost, had walked on into a room
+// the map has never seen (25 frames a second after the teddy's last).
+struct WalkedOn {
+  int lost_before_new_map = 0;  // kitchen frames lost before one started a new map (-1: none did)
+  int tracked_after = 0;        // kitchen frames fused after it
+};
+WalkedOn walkOnIntoAnotherRoom(const TrackerParams& tracking) {
+  const TumDataset teddy(test::dataPath("tum_fr3_teddy_head60"));
+  const FrameListSource kitchen(readSevenScenes(test::dataPath("7scenes_redkitchen_head100")));
+  Pipeline pipeline(params(), teddy.depthIntrinsics(), Device::Cpu);
+  Tracker tracker(pipeline, PoseSource::Icp, tracking);
+  double t = 0;
+  for (int i = 0; i < 10; ++i) {
+    const RgbdFrame frame = teddy.load(i);
+    t = frame.timestamp;
+    EXPECT_TRUE(tracker.process(frame).result.integrated) << "teddy frame " << i;
+  }
+  WalkedOn out{-1, 0};
+  for (int k = 0; k < 20; ++k) {
+    RgbdFrame frame = kitchen.load(k);
+    frame.index = 10 + k;
+    frame.timestamp = t + 0.04 * (k + 1);
+    const Tracker::Step step = tracker.process(frame);
+    if (step.new_map) {
+      EXPECT_EQ(out.lost_before_new_map, -1) << "a second new map at kitchen frame " << k;
+      out.lost_before_new_map = k;
+      // The teddy's volume was dropped: this frame's bricks are all there is.
+      EXPECT_EQ(pipeline.brickCount(), step.result.bricks_fused);
+      EXPECT_EQ(tracker.keyframes()[tracker.keyframes().size() - 1].frame_index, frame.index);
+    } else if (out.lost_before_new_map < 0) {
+      EXPECT_FALSE(step.result.tracked) << "kitchen frame " << k << " relocalised in the teddy's room";
+    } else {
+      out.tracked_after += step.result.integrated ? 1 : 0;
+    }
+  }
+  for (int i = 0; i < tracker.keyframes().size(); ++i)
+    EXPECT_EQ(tracker.keyframes()[i].map, tracker.keyframes()[i].frame_index < 10 ? 0 : 1) << "keyframe " << i;
+  EXPECT_EQ(tracker.maps(), out.lost_before_new_map >= 0 ? 2 : 1);
+  return out;
+}
+
+TEST(Tracker, ACameraLostWhereTheMapCannotFindItStartsANewMap) {
+  VF_REQUIRE_DATA(teddy_dir, "tum_fr3_teddy_head60");
+  VF_REQUIRE_DATA(kitchen_dir, "7scenes_redkitchen_head100");
+  const WalkedOn walked = walkOnIntoAnotherRoom(TrackerParams());
+  // Kitchen frame 0 is lost tracking; frames 1-8 (0.08-0.36 s) search the teddy's map, and frame
+  // 9, 0.32 s after the first search (new_map_after_s 0.3), starts the new map; the rest track in it.
+  EXPECT_EQ(walked.lost_before_new_map, 9);
+  EXPECT_EQ(walked.tracked_after, 20 - 10);
+  TrackerParams never;
+  never.new_map_after_s = 0;
+  const WalkedOn searched = walkOnIntoAnotherRoom(never);
+  EXPECT_EQ(searched.lost_before_new_map, -1);
 }
 
 TEST(LoopClosure, TwoViewsOfDifferentPlacesAreNotALoop) {
