@@ -5,7 +5,8 @@
 // walk that follows metres from where it was (a doubled corridor).
 // A relocalisation must pin the camera down in all six directions (slam/tracker.h,
 // TrackerParams::relocalise_min_direction_share): until a view does, the frames stay lost, and the map
-// keeps to where the camera really was. Full Kinect v1 resolution.
+// keeps to where the camera really was; after TrackerParams::new_map_after_s of that the walk goes
+// on in a new map, placed from the camera's last motion. Full Kinect v1 resolution.
 #include <gtest/gtest.h>
 
 #include <cmath>
