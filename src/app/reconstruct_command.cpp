@@ -170,8 +170,12 @@ void runReconstruct(const ReconstructOptions& o) {
       const std::string maps = report.maps > 1 ? ", " + std::to_string(report.maps_joined) + " of " +
                                                      std::to_string(report.maps - 1) + " new maps joined to the older"
                                                : "";
-      std::fprintf(stderr, "loop closure: %d of %d loops hold%s; fusing again at the optimised poses (frames moved up to %.1f cm)\n",
-                   report.loops_accepted, report.loops_found, maps.c_str(), 100.0 * report.largest_correction_m);
+      if (report.moved())
+        std::fprintf(stderr, "loop closure: %d of %d loops hold%s; fusing again at the optimised poses (frames moved up to %.1f cm)\n",
+                     report.loops_accepted, report.loops_found, maps.c_str(), 100.0 * report.largest_correction_m);
+      else  // several maps, none moved: fused together as they were placed
+        std::fprintf(stderr, "loop closure: %d of %d loops hold%s; fusing every map again into one scene\n",
+                     report.loops_accepted, report.loops_found, maps.c_str());
     }
     bricks_per_frame.clear();
     progress = std::make_unique<ProgressBar>(run.frameCount(), !o.quiet);
