@@ -25,6 +25,13 @@ Eigen::Matrix<double, 6, 6> edgeInformation(const CloudAlignment& a, double sigm
   return a.information * (3.0 / translation_trace) / (sigma_m * sigma_m);
 }
 
+// Of (omega, v): the same information in each rotation axis (1/rad^2) and each translation axis (1/m^2).
+Eigen::Matrix<double, 6, 6> isotropicInformation(double per_rotation_axis, double per_translation_axis) {
+  Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
+  information.diagonal() << Eigen::Vector3d::Constant(per_rotation_axis), Eigen::Vector3d::Constant(per_translation_axis);
+  return information;
+}
+
 // The information with the variance of the translation along each of its directions grown by
 // (sigma_m * min(1, free_share / share))^2, share being the direction's share of the translation
 // block's trace: a direction constrained that little or less is free, and the error along a
@@ -90,9 +97,7 @@ std::vector<PoseGraphEdge> odometryEdges(const KeyframeStore& keyframes, const L
     // Into a new map: only the guess of where the camera's last motion led (new_map_sigma_*).
     if (a.map != b.map) {
       const double sigma_rad = params.new_map_sigma_deg * M_PI / 180.0;
-      e.information.setZero();
-      e.information.diagonal() << Eigen::Vector3d::Constant(1.0 / (sigma_rad * sigma_rad)),
-          Eigen::Vector3d::Constant(1.0 / (params.new_map_sigma_m * params.new_map_sigma_m));
+      e.information = isotropicInformation(1.0 / (sigma_rad * sigma_rad), 1.0 / (params.new_map_sigma_m * params.new_map_sigma_m));
       edges.push_back(e);
       continue;
     }
@@ -112,8 +117,7 @@ std::vector<PoseGraphEdge> odometryEdges(const KeyframeStore& keyframes, const L
                                               params.free_translation_share);
       }
     } else {
-      e.information.setZero();
-      e.information.diagonal() << 1.0 / 3e-4, 1.0 / 3e-4, 1.0 / 3e-4, 1e4, 1e4, 1e4;
+      e.information = isotropicInformation(1.0 / 3e-4, 1e4);
     }
     edges.push_back(e);
   }

@@ -6,16 +6,13 @@
 #include <cmath>
 
 #include "slam/map_joining.h"
+#include "square_walk.h"
 
 namespace vf::slam {
 namespace {
 
-Pose poseAt(double x, double z, double yaw_deg) {
-  Pose p = Pose::Identity();
-  p.linear() = Eigen::AngleAxisd(yaw_deg * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
-  p.translation() = Eigen::Vector3d(x, 0, z);
-  return p;
-}
+using test::poseAt;
+using test::worstOffsetM;
 
 // 40 keyframes round a 4 m square back to its start; from keyframe 20 on a second map, tracked
 // in a frame the guess put 1.5 m and 35 degrees off.
@@ -27,15 +24,12 @@ struct TwoMaps {
 
 TwoMaps twoMaps() {
   TwoMaps m;
+  m.truth = test::squareWalk();
   for (int i = 0; i < 40; ++i) {
-    const int side = i / 10;
-    const double s = 0.4 * (i % 10);
-    const double x[4] = {s, 4.0, 4.0 - s, 0.0}, z[4] = {0.0, s, 4.0, 4.0 - s};
-    m.truth.push_back(poseAt(x[side], z[side], -90.0 * side));
     Keyframe k;
     k.frame_index = 10 * i;
     k.map = i < 20 ? 0 : 1;
-    k.T_world_cam = k.map == 0 ? m.truth.back() : m.guess_error * m.truth.back();
+    k.T_world_cam = k.map == 0 ? m.truth[size_t(i)] : m.guess_error * m.truth[size_t(i)];
     m.tracked.push_back(k.T_world_cam);
     m.keyframes.add(std::move(k));
   }
@@ -49,12 +43,6 @@ PoseGraphEdge loop(const std::vector<Pose>& truth, int from, int to, const Pose&
   e.T_from_to = truth[size_t(from)].inverse() * truth[size_t(to)] * error;
   e.loop = true;
   return e;
-}
-
-double worstOffsetM(const std::vector<Pose>& a, const std::vector<Pose>& b) {
-  double worst = 0;
-  for (size_t i = 0; i < a.size(); ++i) worst = std::max(worst, (a[i].translation() - b[i].translation()).norm());
-  return worst;
 }
 
 TEST(MapJoining, ALaterMapIsMovedOntoTheOlderOneWhereItsLoopsAgree) {

@@ -6,28 +6,13 @@
 #include <cmath>
 
 #include "slam/pose_graph.h"
+#include "square_walk.h"
 
 namespace vf::slam {
 namespace {
 
-Pose poseAt(double x, double y, double yaw_deg) {
-  Pose p = Pose::Identity();
-  p.linear() = Eigen::AngleAxisd(yaw_deg * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
-  p.translation() = Eigen::Vector3d(x, 0, y);
-  return p;
-}
-
-// 40 nodes round a 4 m square, looking along the walk, back at the start (node 39 beside node 0).
-std::vector<Pose> squareWalk() {
-  std::vector<Pose> truth;
-  for (int i = 0; i < 40; ++i) {
-    const int side = i / 10, step = i % 10;
-    const double s = 0.4 * step;
-    const double x[4] = {s, 4.0, 4.0 - s, 0.0}, y[4] = {0.0, s, 4.0, 4.0 - s};
-    truth.push_back(poseAt(x[side], y[side], -90.0 * side));
-  }
-  return truth;
-}
+using test::poseAt;
+using test::squareWalk;
 
 Eigen::Matrix<double, 6, 6> information(double sigma_m, double sigma_deg) {
   Eigen::Matrix<double, 6, 6> info = Eigen::Matrix<double, 6, 6>::Zero();
@@ -70,15 +55,9 @@ PoseGraphEdge loop(const Graph& g, int from, int to, const Pose& error = Pose::I
   return e;
 }
 
-double worstError(const std::vector<Pose>& poses, const std::vector<Pose>& truth) {
-  double worst = 0;
-  for (size_t i = 0; i < poses.size(); ++i) worst = std::max(worst, (poses[i].translation() - truth[i].translation()).norm());
-  return worst;
-}
-
 TEST(PoseGraph, ALoopPullsADriftingWalkBackOntoItsStart) {
   Graph g = driftingSquare();
-  const double drift = worstError(g.odometry, g.truth);
+  const double drift = test::worstOffsetM(g.odometry, g.truth);
   ASSERT_GT(drift, 0.5);
   g.edges.push_back(loop(g, 0, 39));
   const PoseGraphResult r = optimisePoseGraph(g.odometry, g.edges);
@@ -86,7 +65,7 @@ TEST(PoseGraph, ALoopPullsADriftingWalkBackOntoItsStart) {
   // The gap at the end closes; what stays is the bend that a turn biased the same way at every
   // step leaves along the way (one loop cannot tell where on the walk the turning was wrong).
   EXPECT_LT((r.poses.back().translation() - g.truth.back().translation()).norm(), 0.05 * drift);
-  EXPECT_LT(worstError(r.poses, g.truth), 0.15 * drift) << "odometry was " << drift << " m off";
+  EXPECT_LT(test::worstOffsetM(r.poses, g.truth), 0.15 * drift) << "odometry was " << drift << " m off";
   EXPECT_TRUE(r.poses[0].isApprox(g.odometry[0])) << "node 0 is the world's frame and stays";
 }
 
@@ -101,13 +80,13 @@ TEST(PoseGraph, AWrongLoopIsSwitchedOffAndDoesNotBendTheMap) {
   EXPECT_FALSE(r.loop_kept.back()) << "the wrong loop was kept";
   EXPECT_TRUE(r.loop_kept[g.edges.size() - 2]);
   EXPECT_TRUE(r.loop_kept[g.edges.size() - 3]);
-  EXPECT_LT(worstError(r.poses, g.truth), 0.1);
+  EXPECT_LT(test::worstOffsetM(r.poses, g.truth), 0.1);
 }
 
 TEST(PoseGraph, WithoutLoopsTheOdometryStands) {
   const Graph g = driftingSquare();
   const PoseGraphResult r = optimisePoseGraph(g.odometry, g.edges);
-  EXPECT_LT(worstError(r.poses, g.odometry), 1e-6);
+  EXPECT_LT(test::worstOffsetM(r.poses, g.odometry), 1e-6);
 }
 
 }  // namespace
