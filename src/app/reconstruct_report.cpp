@@ -86,7 +86,7 @@ void printLoopClosure(const slam::GlobalReport& r, bool enabled) {
     if (r.maps_joined == r.maps - 1)
       std::printf(", %s joined to the older maps by loops", r.maps == 2 ? "it" : "all");
     else
-      std::printf(", %d joined to the older maps by loops, %d placed only where the camera's last motion led", r.maps_joined,
+      std::printf(", %d joined to the older maps by loops, %d placed only where the camera's walk led", r.maps_joined,
                   r.maps - 1 - r.maps_joined);
   }
   if (r.moved())

@@ -25,7 +25,8 @@ constexpr char kMagic[16] = {'V', 'D', 'B', 'F', 'U', 'S', 'E', '-', 'C', 'K', '
 // 5: each brick's last marking stamp (tracking's window of recent bricks).
 // 6: the tracker's stretches of frames whose view left directions to the motion prior.
 // 7: the tracker's maps (a new one after a loss the old one could not recover), per keyframe.
-constexpr uint32_t kVersion = 7;
+// 8: the tracker's last second of good poses (slam/recent_motion.h), not only its last step.
+constexpr uint32_t kVersion = 8;
 
 uint64_t fnv1a(const uint8_t* p, size_t n, uint64_t h = 1469598103934665603ull) {
   for (size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;

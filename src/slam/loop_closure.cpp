@@ -94,7 +94,7 @@ std::vector<PoseGraphEdge> odometryEdges(const KeyframeStore& keyframes, const L
     e.from = i;
     e.to = i + 1;
     e.T_from_to = a.T_world_cam.inverse() * b.T_world_cam;
-    // Into a new map: only the guess of where the camera's last motion led (new_map_sigma_*).
+    // Into a new map: only the guess of where the camera's recent pace led (new_map_sigma_*).
     if (a.map != b.map) {
       const double sigma_rad = params.new_map_sigma_deg * M_PI / 180.0;
       e.information = isotropicInformation(1.0 / (sigma_rad * sigma_rad), 1.0 / (params.new_map_sigma_m * params.new_map_sigma_m));

@@ -53,7 +53,7 @@ struct LoopParams {
   double prior_held_drift = 0.5;
   double free_translation_share = 0.003;
   // Between the last keyframe of one map and the first of the next (slam/tracker.h: a camera lost
-  // where the map could not find it again), the edge is only where the camera's last motion
+  // where the map could not find it again), the edge is only where the camera's recent pace
   // would have taken it: standard deviations of a walk's worth of uncertainty, so that any loop
   // outweighs it, while a map no loop reaches still has a place.
   double new_map_sigma_m = 1.0;

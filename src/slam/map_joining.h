@@ -1,6 +1,6 @@
 #pragma once
 // Joining the maps of one run. A camera lost where its map could not find it again starts a new
-// map (slam/tracker.h), placed where its last motion would have taken it: a guess, metres off
+// map (slam/tracker.h), placed where its recent pace would have taken it: a guess, metres off
 // after a long gap. Before the pose graph is solved, each later map is moved whole to where the
 // loops between it and the older maps agree it lies: started from the guess, the graph's robust
 // loss would take those loops, metres off, for wrong ones. A map fewer than `min_loops` agreeing

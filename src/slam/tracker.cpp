@@ -34,6 +34,7 @@ void TrackerParams::validate() const {
   require(min_share_of_recent_match >= 0 && min_share_of_recent_match < 1, "min_share_of_recent_match must be in [0, 1)");
   require(recent_frames >= 1 && recent_frames <= 1000, "recent_frames must be in [1, 1000]");
   require(new_map_after_s >= 0, "new_map_after_s must be 0 (never) or more");
+  require(new_map_min_covered_match >= 0 && new_map_min_covered_match <= 1, "new_map_min_covered_match must be in [0, 1]");
 }
 
 Tracker::Tracker(Pipeline& pipeline, PoseSource poses, const TrackerParams& params)
@@ -281,17 +282,7 @@ Tracker::Step Tracker::relocalise(const RgbdFrame& frame) {
 }
 
 Pose Tracker::extrapolatedPose(double timestamp) const {
-  const double elapsed_s = timestamp - last_good_time_;
-  if (!(last_step_s_ > 0) || !(elapsed_s > 0)) return last_good_;
-  const double steps = elapsed_s / last_step_s_;
-  const Eigen::AngleAxisd turn(last_step_.linear());
-  Eigen::Vector3d move = last_step_.translation() * steps;
-  const double reach_m = double(params_.max_speed_m_s) * elapsed_s;
-  if (move.norm() > reach_m) move *= reach_m / move.norm();
-  Pose step = Pose::Identity();
-  step.linear() = Eigen::AngleAxisd(turn.angle() * steps, turn.axis()).toRotationMatrix();
-  step.translation() = move;
-  return last_good_ * step;
+  return recent_motion_.empty() ? last_good_ : recent_motion_.extrapolate(timestamp, double(params_.max_speed_m_s));
 }
 
 bool Tracker::reachable(const Pose& T, double timestamp) const {
@@ -304,8 +295,9 @@ bool Tracker::reachable(const Pose& T, double timestamp) const {
 
 Pose Tracker::placeNewMap(const RgbdFrame& frame, const FrameFeatures& features) {
   const Pose guess = extrapolatedPose(frame.timestamp);
-  // The guess, and the guess panned: a walker turning a corner while the camera was lost
-  // (the ring corridor's gap at walk frame 120, 20 frames: 30 degrees in the second it took).
+  // The guess, and the guess panned: a walker turning a corner while the camera was lost, or
+  // turning back (the ring corridor's gap at walk frame 120: 11 degrees in the 1.1 s since the
+  // last good frame, 30 from where the last step's turn carried on).
   std::vector<Pose> starts{guess};
   for (const double pan_deg : {-15.0, 15.0, -30.0, 30.0, -45.0, 45.0}) {
     Pose panned = guess;
@@ -319,17 +311,25 @@ Pose Tracker::placeNewMap(const RgbdFrame& frame, const FrameFeatures& features)
       starts.push_back(last_good_ * relative->T_target_source);
   }
   // Aligned to the old map where the view overlaps it, the direction the view leaves free held
-  // where the start put it: a view along a corridor still measures which way it runs.
+  // where the start put it: a view along a corridor still measures which way it runs. Judged as
+  // a placement (placesNewMap), not as strictly as a relocalisation.
   std::optional<FrameResult> best;
   for (const Pose& start : starts) {
     if (!reachable(start, frame.timestamp)) continue;
     pipeline_.predictForTracking(start);
     const FrameResult r = pipeline_.track(start, TrackingCheck{start, true});
-    if (r.tracked && reachable(r.T_world_cam, frame.timestamp) &&
-        (!best || r.icp_inlier_fraction > best->icp_inlier_fraction))
+    if (!r.tracked && !placesNewMap(r)) continue;
+    if (reachable(r.T_world_cam, frame.timestamp) && (!best || r.icp_inlier_fraction > best->icp_inlier_fraction))
       best = r;
   }
   return best ? best->T_world_cam : guess;
+}
+
+bool Tracker::placesNewMap(const FrameResult& r) const {
+  const IcpParams& icp = pipeline_.params().icp;
+  if (!r.T_world_cam.matrix().allFinite() || r.icp_rmse_m > icp.relocalise_max_rmse_m) return false;
+  if (r.icp_model_coverage < icp.relocalise_min_coverage) return false;
+  return r.icp_inlier_fraction >= params_.new_map_min_covered_match * r.icp_model_coverage;
 }
 
 Tracker::Step Tracker::startNewMap(const RgbdFrame& frame, const Pose& T) {
@@ -369,9 +369,7 @@ void Tracker::harvest(const RgbdFrame& frame, const FrameResult& result, bool fo
 }
 
 void Tracker::markLastGood(const Pose& T, const RgbdFrame& frame) {
-  const bool consecutive = last_good_index_ == frame.index - 1 && frame.timestamp > last_good_time_;
-  last_step_ = consecutive ? last_good_.inverse() * T : Pose::Identity();
-  last_step_s_ = consecutive ? frame.timestamp - last_good_time_ : 0.0;
+  recent_motion_.add(T, frame.timestamp, last_good_index_ == frame.index - 1 && frame.timestamp > last_good_time_);
   lost_with_depth_since_ = std::nan("");
   last_good_ = T;
   last_good_time_ = frame.timestamp;
@@ -395,8 +393,7 @@ void Tracker::write(std::vector<uint8_t>& out) const {
   w.pose(last_good_);
   w.pod(last_good_time_);
   w.pod<int32_t>(last_good_index_);
-  w.pose(last_step_);
-  w.pod(last_step_s_);
+  recent_motion_.write(w);
   w.pod(lost_with_depth_since_);
   w.pod<int32_t>(map_);
   w.pod<uint32_t>(uint32_t(recent_match_.size()));
@@ -427,11 +424,10 @@ void Tracker::read(ByteReader& in) {
   last_good_time_ = in.read<double>("last good time");
   last_good_index_ = in.read<int32_t>("last good frame index");
   if (last_good_index_ < -1) in.fail("last good frame index " + std::to_string(last_good_index_));
-  last_step_ = readPose(in, "last step");
-  last_step_s_ = in.read<double>("last step time");
+  recent_motion_.read(in);
   lost_with_depth_since_ = in.read<double>("lost since");
   map_ = in.read<int32_t>("map");
-  if (!(last_step_s_ >= 0) || map_ < 0) in.fail("a negative step time or map number");
+  if (map_ < 0) in.fail("a negative map number");
   const uint32_t recent = in.read<uint32_t>("recent match count");
   if (recent > uint32_t(std::max(params_.recent_frames, 0))) in.fail("recent match count " + std::to_string(recent));
   recent_match_.resize(recent);

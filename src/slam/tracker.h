@@ -13,7 +13,7 @@
 //              are pending until then, and dropped if the pose does not hold.
 //   New map    a camera lost with depth in view for longer than new_map_after_s, where no
 //              candidate agreed, starts a map of its own: the volume is dropped, and the frame
-//              placed where it aligns to the old map from where the camera's last motion led
+//              placed where it aligns to the old map from where the camera's recent pace led
 //              (or that guess itself); loops join the maps after the pass (slam/map_joining.h).
 // Keyframes are harvested while tracking is good and the view is new (slam/keyframes.h).
 #include <cmath>
@@ -26,6 +26,7 @@
 #include "slam/frame_features.h"
 #include "slam/keyframes.h"
 #include "slam/prior_held.h"
+#include "slam/recent_motion.h"
 
 namespace vf::slam {
 
@@ -70,6 +71,14 @@ struct TrackerParams {
   // new map against the old ones, and the second pass fuses them together (Reconstruction):
   // 3.2 cm. 0: never (a run without that second pass: --loop-closure off, recorded poses).
   float new_map_after_s = 0.3f;
+  // A new map's first pose needs less proof than a relocalisation (the loops place the map
+  // again, and its link to the old one is weak, LoopParams::new_map_sigma_m): a start whose
+  // alignment to the old map matches this share of the pixels that land on it will do, where a
+  // relocalisation needs relocalise_min_inlier_fraction of all its pixels or
+  // relocalise_min_covered_match of those. After the ring corridor's gap at walk frame 120 the
+  // right one (within 1 cm and 0.6 deg of the true motion since the last good frame) matched 68 %
+  // of the 47 % of its pixels that land on the old map, the other starts under 10 %.
+  float new_map_min_covered_match = 0.5f;
   void validate() const;
 };
 
@@ -112,11 +121,14 @@ class Tracker {
   // Drops the pipeline's volume and fuses the frame at T, the first pose of a new map.
   Step startNewMap(const RgbdFrame& frame, const Pose& T);
   // Where a new map starts: the frame aligned to the old map, where it overlaps it, from where
-  // the camera's last motion led or where the features it shares with the last good frame put
-  // it; that guess itself where neither aligns.
+  // the camera's recent pace led (and that guess panned) or where the features it shares
+  // with the last good frame put it; that guess itself where none aligns.
   Pose placeNewMap(const RgbdFrame& frame, const FrameFeatures& features);
-  // Where the camera would be at `timestamp` had it gone on as it moved between the last two
-  // well-tracked frames (at most max_speed_m_s).
+  // Whether an alignment that failed the relocalisation's checks still places a new map.
+  bool placesNewMap(const FrameResult& r) const;
+  // Where the camera would be at `timestamp` had it walked on at its pace over its last second
+  // of well-tracked frames, turning as in its last step (slam/recent_motion.h; at most
+  // max_speed_m_s).
   Pose extrapolatedPose(double timestamp) const;
   // Whether the camera can have reached T by `timestamp` since it was last tracked.
   bool reachable(const Pose& T, double timestamp) const;
@@ -145,8 +157,7 @@ class Tracker {
   Pose last_good_ = Pose::Identity();          // the last pose tracked well (a relocalised one once it held)
   double last_good_time_ = 0;                  // its frame's timestamp
   int last_good_index_ = -1;                   // its frame's index
-  Pose last_step_ = Pose::Identity();          // camera motion from the good frame before it (if consecutive)
-  double last_step_s_ = 0;                     // over this time (0: none)
+  RecentMotion recent_motion_;                 // the good frames up to it, while consecutive
   double lost_with_depth_since_ = std::nan("");  // timestamp of the first lost frame with depth (NaN: none)
   int map_ = 0;                                // the map tracking is in
   std::vector<float> recent_match_;            // inlier fractions of the last tracked frames, oldest first

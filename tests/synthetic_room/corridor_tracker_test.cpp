@@ -6,7 +6,7 @@
 // A relocalisation must pin the camera down in all six directions (slam/tracker.h,
 // TrackerParams::relocalise_min_direction_share): until a view does, the frames stay lost, and the map
 // keeps to where the camera really was; after TrackerParams::new_map_after_s of that the walk goes
-// on in a new map, placed from the camera's last motion. Full Kinect v1 resolution.
+// on in a new map, placed from the camera's recent pace. Full Kinect v1 resolution.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -82,9 +82,10 @@ TEST(CorridorRelocalisation, AfterAGapNoFrameIsFusedAtAPoseTheCorridorLeavesFree
 // The same gap with the default tracker: searched for in vain for new_map_after_s (walk frames
 // 140-150), the camera starts a new map at frame 151 and the rest of the walk is fused there
 // (a run's loop closure then joins the maps and fuses them again together). The new map starts
-// where the frame aligns to the old one from the camera's last motion panned by 30 degrees: the
-// walker turned the corner meanwhile, 8.0 cm and 1.5 degrees from the truth, and the walk to
-// frame 199 stays within that. From the last motion alone (30 degrees off) frame 199 was 79 cm out.
+// where the frame aligns to the old one from where the walk led, panned (the walker turned 11
+// degrees in the 1.1 s since the last good frame; the last step's turn carried on said 30 off),
+// judged as a placement (TrackerParams::new_map_min_covered_match), and the walk to frame 199
+// stays within 10.4 cm of the truth. Unpanned, frame 199 was 79 cm out.
 TEST(CorridorRelocalisation, AfterAGapTheTrackerGoesOnInANewMapWhereTheWalkLed) {
   const Fused fused = trackAcrossGap(60, 200, {120, 20}, slam::TrackerParams{});
   EXPECT_EQ(fused.maps, 2);
