@@ -57,7 +57,8 @@ void RecentMotion::write(ByteWriter& w) const {
 void RecentMotion::read(ByteReader& in) {
   samples_.clear();
   const uint32_t n = in.read<uint32_t>("recent motion count");
-  if (uint64_t(n) * 136 > in.remaining()) in.fail("recent motion count " + std::to_string(n) + " exceeds the file");
+  constexpr uint64_t kSampleBytes = sizeof(double) * (1 + 16);  // the time, then the 4x4 pose
+  if (uint64_t(n) * kSampleBytes > in.remaining()) in.fail("recent motion count " + std::to_string(n) + " exceeds the file");
   for (uint32_t i = 0; i < n; ++i) {
     const double timestamp = in.read<double>("recent motion time");
     const Pose T = readPose(in, "recent motion pose");

@@ -27,7 +27,6 @@ class RecentMotion {
   // A well-tracked frame's pose. `follows`: the frame comes right after the last one added (no
   // frame lost between them); else the motion so far says nothing about the camera's now.
   void add(const Pose& T_world_cam, double timestamp, bool follows);
-  void clear() { samples_.clear(); }
   bool empty() const { return samples_.empty(); }
 
   // Where the camera is at `timestamp` had it walked on from the last pose at its median velocity

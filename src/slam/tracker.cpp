@@ -369,7 +369,7 @@ void Tracker::harvest(const RgbdFrame& frame, const FrameResult& result, bool fo
 }
 
 void Tracker::markLastGood(const Pose& T, const RgbdFrame& frame) {
-  recent_motion_.add(T, frame.timestamp, last_good_index_ == frame.index - 1 && frame.timestamp > last_good_time_);
+  recent_motion_.add(T, frame.timestamp, last_good_index_ == frame.index - 1);  // (it checks time goes on)
   lost_with_depth_since_ = std::nan("");
   last_good_ = T;
   last_good_time_ = frame.timestamp;
