@@ -102,7 +102,7 @@ def checkpoint(frames, with_classes, windowed, bricks, lost=()):
     def pose(tx=0.0, ty=0.0, tz=0.0):  # Eigen's column-major 4x4
         return struct.pack("<16d", 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, tx, ty, tz, 1)
     settings = [("dataset", "/data/seq"), ("dataset_frames", "10"), ("device", "cpu")]
-    out = b"VDBFUSE-CKPT\n\0\0\0" + struct.pack("<I", 4) + struct.pack("<I", len(settings))
+    out = b"VDBFUSE-CKPT\n\0\0\0" + struct.pack("<I", 8) + struct.pack("<I", len(settings))
     out += b"".join(string(k) + string(v) for k, v in settings)
     out += struct.pack("<ffB", 0.02, 0.1, 1 if with_classes else 0)
     out += struct.pack("<ii4f", 64, 48, 60.0, 60.0, 32.0, 24.0)
@@ -125,6 +125,8 @@ def checkpoint(frames, with_classes, windowed, bricks, lost=()):
     out += b"".join(bytes([200, 100, 50, 255]) for _ in bricks for v in range(512))
     if with_classes:
         out += b"".join(struct.pack("<I", (3 << 16) | 15) for _ in bricks for v in range(512))
+    # each brick's last marking stamp (format 5): the frame that last listed it, at most `frames`
+    out += b"".join(struct.pack("<I", min(frames, 1 + i)) for i in range(len(bricks)))
     return out
 
 

@@ -290,5 +290,35 @@ TEST_F(ResumeTest, MismatchingOrDamagedCheckpointIsRefusedWithAReason) {
   EXPECT_EQ(fresh.framesProcessed(), 0);
 }
 
+// The fuzz target's seeds (tests/fuzz/corpus/checkpoint, written by tests/fuzz/make_seeds.py) are
+// checkpoints of the format this build reads: a seed of an older format is refused at its version
+// field, and fuzzing it mutates nothing behind that check. Each seed is the file without its
+// closing FNV-1a checksum (the fuzz target appends it); the pipeline is the target's.
+TEST(FuzzSeeds, TheCheckpointSeedsAreReadWhole) {
+  const std::filesystem::path corpus = std::filesystem::path(VDBFUSE_SOURCE_DIR) / "tests/fuzz/corpus/checkpoint";
+  const std::string dir = test::tempDir("fuzz_seeds");
+  int seeds = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(corpus)) {
+    SCOPED_TRACE(entry.path().string());
+    std::ifstream in(entry.path(), std::ios::binary);
+    std::vector<char> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    uint64_t sum = 1469598103934665603ull;
+    for (const char c : bytes) sum = (sum ^ uint8_t(c)) * 1099511628211ull;
+    bytes.insert(bytes.end(), reinterpret_cast<const char*>(&sum), reinterpret_cast<const char*>(&sum) + sizeof sum);
+    const std::string path = dir + "/seed.checkpoint";
+    std::ofstream(path, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
+    PipelineParams params;
+    params.volume.voxel_size_m = 0.02f;
+    params.volume.truncation_m = 0.1f;
+    const Intrinsics camera{60.f, 60.f, 32.f, 24.f, 64, 48};
+    const bool with_classes = entry.path().filename().string().find("classes") != std::string::npos;
+    Pipeline pipeline(params, camera, Device::Cpu, with_classes);
+    const RunSettings settings = readCheckpointSettings(path);
+    EXPECT_EQ(test::errorOf([&] { readCheckpoint(path, pipeline, settings); }), "(no error)");
+    ++seeds;
+  }
+  EXPECT_GE(seeds, 3);
+}
+
 }  // namespace
 }  // namespace vf
