@@ -22,7 +22,7 @@ std::vector<Pose> optimiseTrajectory(KeyframeStore& keyframes, const std::vector
   LoopStats stats;
   std::vector<PoseGraphEdge> edges = odometryEdges(keyframes, params.loops, prior_held);
   const size_t odometry = edges.size();
-  std::vector<PoseGraphEdge> loops = detectLoops(keyframes, params.loops, &stats);
+  std::vector<PoseGraphEdge> loops = detectLoops(keyframes, params.loops, &stats, prior_held);
   r.candidates = stats.candidates;
   r.loops_found = stats.verified;
   std::vector<Pose> before(size_t(keyframes.size()));

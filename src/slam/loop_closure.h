@@ -22,6 +22,16 @@ struct LoopParams {
   int candidates_by_place = 3;           // per keyframe: the older ones the odometry puts nearest
   float max_candidate_distance_m = 1.0f;  // within this distance
   float max_candidate_angle_deg = 40.f;   // looking within this angle
+  // A pair no start aligns (the odometry's guess, the point features') is tried again from the
+  // guess slid along the newer camera's viewing and sideways axes, every slide_step_m up to
+  // max_slide_m each way (loop_closure.cpp alignFromSlidStarts), when at least
+  // min_held_frames_to_slide frames between the two were held by the motion prior: there the
+  // tracker drifts along what it cannot see, a corridor's length, beyond the coarse alignment's
+  // 30 cm reach (the ring corridor's walk 1 at 320x240 came back 57-62 cm down the corridor from
+  // its start, and none of its 390 candidate pairs aligned). max_slide_m 0: no slid starts.
+  double max_slide_m = 0.75;
+  double slide_step_m = 0.25;
+  int min_held_frames_to_slide = 30;
   float min_overlap = 0.3f;              // share of the newer view's points the older one explains
   float max_rmse_m = 0.015f;             // point-to-plane, over those points
   // And the two views' surfaces must pin the translation down in every direction: a corridor
@@ -71,6 +81,8 @@ struct LoopStats {
 // guess between two maps), then the loop edges found; node i is keyframe i.
 std::vector<PoseGraphEdge> odometryEdges(const KeyframeStore& keyframes, const LoopParams& params,
                                          const std::vector<PriorHeldStretch>& prior_held = {});
-std::vector<PoseGraphEdge> detectLoops(const KeyframeStore& keyframes, const LoopParams& params, LoopStats* stats);
+// prior_held: where tracking leaned on the motion prior (slid starts are tried only across them).
+std::vector<PoseGraphEdge> detectLoops(const KeyframeStore& keyframes, const LoopParams& params, LoopStats* stats,
+                                       const std::vector<PriorHeldStretch>& prior_held = {});
 
 }  // namespace vf::slam
