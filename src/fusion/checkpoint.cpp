@@ -26,8 +26,9 @@ constexpr char kMagic[16] = {'V', 'D', 'B', 'F', 'U', 'S', 'E', '-', 'C', 'K', '
 // 6: the tracker's stretches of frames whose view left directions to the motion prior.
 // 7: the tracker's maps (a new one after a loss the old one could not recover), per keyframe.
 // 8: the tracker's last second of good poses (slam/recent_motion.h), not only its last step.
+// 9: the tracker's last good pose and time no longer stored beside that second (its last sample).
 // A new version also needs the fuzz seeds rewritten (tests/fuzz/make_seeds.py; resume_test checks).
-constexpr uint32_t kVersion = 8;
+constexpr uint32_t kVersion = 9;
 
 uint64_t fnv1a(const uint8_t* p, size_t n, uint64_t h = 1469598103934665603ull) {
   for (size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;

@@ -28,6 +28,9 @@ class RecentMotion {
   // frame lost between them); else the motion so far says nothing about the camera's now.
   void add(const Pose& T_world_cam, double timestamp, bool follows);
   bool empty() const { return samples_.empty(); }
+  // The last pose added (the last one tracked well) and its time; identity and 0 before the first.
+  Pose lastPose() const { return samples_.empty() ? Pose::Identity() : samples_.back().T_world_cam; }
+  double lastTime() const { return samples_.empty() ? 0.0 : samples_.back().timestamp; }
 
   // Where the camera is at `timestamp` had it walked on from the last pose at its median velocity
   // (each component of the per-frame camera-frame translation rates; at most max_speed_m_s) and

@@ -199,7 +199,7 @@ void Tracker::rejectCollapse(FrameResult& r) const {
 Tracker::Step Tracker::relocalise(const RgbdFrame& frame) {
   if (std::optional<Step> none = lostWithoutDepth(frame)) return *none;
   const MeasurementParams& m = pipeline_.params().measurement;
-  std::vector<Pose> candidates{last_good_};
+  std::vector<Pose> candidates{recent_motion_.lastPose()};
   auto addCandidate = [&](const Pose& T) {
     for (const Pose& c : candidates)
       if (samePose(c, T)) return;
@@ -223,7 +223,7 @@ Tracker::Step Tracker::relocalise(const RgbdFrame& frame) {
   if (last_good_frame_) {
     if (!last_good_features_)
       last_good_features_ = extractFeatures(*last_good_frame_, pipeline_.intrinsics(), m.min_depth_m, m.max_depth_m);
-    addFeatureCandidates(*last_good_features_, last_good_);
+    addFeatureCandidates(*last_good_features_, recent_motion_.lastPose());
   }
   for (int id : ids) {
     const Keyframe& k = keyframes_[id];
@@ -282,13 +282,13 @@ Tracker::Step Tracker::relocalise(const RgbdFrame& frame) {
 }
 
 Pose Tracker::extrapolatedPose(double timestamp) const {
-  return recent_motion_.empty() ? last_good_ : recent_motion_.extrapolate(timestamp, double(params_.max_speed_m_s));
+  return recent_motion_.extrapolate(timestamp, double(params_.max_speed_m_s));
 }
 
 bool Tracker::reachable(const Pose& T, double timestamp) const {
-  const double elapsed_s = timestamp - last_good_time_;
+  const double elapsed_s = timestamp - recent_motion_.lastTime();
   if (!std::isfinite(elapsed_s) || elapsed_s <= 0) return true;
-  const Pose d = last_good_.inverse() * T;
+  const Pose d = recent_motion_.lastPose().inverse() * T;
   return d.translation().norm() <= params_.reach_slack_m + params_.max_speed_m_s * elapsed_s &&
          Eigen::AngleAxisd(d.linear()).angle() * 180.0 / M_PI <= params_.reach_slack_deg + params_.max_turn_deg_s * elapsed_s;
 }
@@ -306,9 +306,9 @@ Pose Tracker::placeNewMap(const RgbdFrame& frame, const FrameFeatures& features)
   }
   if (last_good_features_ && !features.empty()) {
     if (const auto relative = estimateRelativePose(features, *last_good_features_))
-      starts.push_back(last_good_ * relative->T_target_source);
+      starts.push_back(recent_motion_.lastPose() * relative->T_target_source);
     if (const auto relative = estimateRelativePoseFromPixels(features, *last_good_features_, pipeline_.intrinsics()))
-      starts.push_back(last_good_ * relative->T_target_source);
+      starts.push_back(recent_motion_.lastPose() * relative->T_target_source);
   }
   // Aligned to the old map where the view overlaps it, the direction the view leaves free held
   // where the start put it: a view along a corridor still measures which way it runs. Judged as
@@ -371,8 +371,6 @@ void Tracker::harvest(const RgbdFrame& frame, const FrameResult& result, bool fo
 void Tracker::markLastGood(const Pose& T, const RgbdFrame& frame) {
   recent_motion_.add(T, frame.timestamp, last_good_index_ == frame.index - 1);  // (it checks time goes on)
   lost_with_depth_since_ = std::nan("");
-  last_good_ = T;
-  last_good_time_ = frame.timestamp;
   if (last_good_index_ != frame.index) {
     last_good_frame_.reset();
     last_good_features_.reset();
@@ -390,8 +388,6 @@ void Tracker::write(std::vector<uint8_t>& out) const {
   w.pod<uint8_t>(uint8_t(state_));
   w.pod<int32_t>(probation_count_);
   w.pod<int32_t>(relocalisations_);
-  w.pose(last_good_);
-  w.pod(last_good_time_);
   w.pod<int32_t>(last_good_index_);
   recent_motion_.write(w);
   w.pod(lost_with_depth_since_);
@@ -420,8 +416,6 @@ void Tracker::read(ByteReader& in) {
   probation_count_ = in.read<int32_t>("probation count");
   relocalisations_ = in.read<int32_t>("relocalisation count");
   if (probation_count_ < 0 || relocalisations_ < 0) in.fail("negative tracking counters");
-  last_good_ = readPose(in, "last good pose");
-  last_good_time_ = in.read<double>("last good time");
   last_good_index_ = in.read<int32_t>("last good frame index");
   if (last_good_index_ < -1) in.fail("last good frame index " + std::to_string(last_good_index_));
   recent_motion_.read(in);

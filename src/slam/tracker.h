@@ -154,10 +154,10 @@ class Tracker {
   State state_ = State::Starting;
   int probation_count_ = 0;
   int relocalisations_ = 0;
-  Pose last_good_ = Pose::Identity();          // the last pose tracked well (a relocalised one once it held)
-  double last_good_time_ = 0;                  // its frame's timestamp
-  int last_good_index_ = -1;                   // its frame's index
-  RecentMotion recent_motion_;                 // the good frames up to it, while consecutive
+  // The good frames up to the last pose tracked well (a relocalised one once it held), while
+  // consecutive: lastPose() and lastTime() are that pose and its frame's timestamp.
+  RecentMotion recent_motion_;
+  int last_good_index_ = -1;                   // the last good frame's index
   double lost_with_depth_since_ = std::nan("");  // timestamp of the first lost frame with depth (NaN: none)
   int map_ = 0;                                // the map tracking is in
   std::vector<float> recent_match_;            // inlier fractions of the last tracked frames, oldest first

@@ -102,7 +102,7 @@ def checkpoint(frames, with_classes, windowed, bricks, lost=()):
     def pose(tx=0.0, ty=0.0, tz=0.0):  # Eigen's column-major 4x4
         return struct.pack("<16d", 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, tx, ty, tz, 1)
     settings = [("dataset", "/data/seq"), ("dataset_frames", "10"), ("device", "cpu")]
-    out = b"VDBFUSE-CKPT\n\0\0\0" + struct.pack("<I", 8) + struct.pack("<I", len(settings))
+    out = b"VDBFUSE-CKPT\n\0\0\0" + struct.pack("<I", 9) + struct.pack("<I", len(settings))
     out += b"".join(string(k) + string(v) for k, v in settings)
     out += struct.pack("<ffB", 0.02, 0.1, 1 if with_classes else 0)
     out += struct.pack("<ii4f", 64, 48, 60.0, 60.0, 32.0, 24.0)
