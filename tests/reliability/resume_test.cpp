@@ -311,9 +311,13 @@ TEST(FuzzSeeds, TheCheckpointSeedsAreReadWhole) {
     params.volume.voxel_size_m = 0.02f;
     params.volume.truncation_m = 0.1f;
     const Intrinsics camera{60.f, 60.f, 32.f, 24.f, 64, 48};
-    const bool with_classes = entry.path().filename().string().find("classes") != std::string::npos;
-    Pipeline pipeline(params, camera, Device::Cpu, with_classes);
-    const RunSettings settings = readCheckpointSettings(path);
+    RunSettings settings;
+    ASSERT_EQ(test::errorOf([&] { settings = readCheckpointSettings(path); }), "(no error)");
+    // The class flag follows the magic (16 bytes), the version (4), the settings and two floats.
+    size_t flag_at = 16 + 4 + 4 + 8;
+    for (const auto& [key, value] : settings) flag_at += 4 + key.size() + 4 + value.size();
+    ASSERT_LT(flag_at, bytes.size());
+    Pipeline pipeline(params, camera, Device::Cpu, bytes[flag_at] != 0);
     EXPECT_EQ(test::errorOf([&] { readCheckpoint(path, pipeline, settings); }), "(no error)");
     ++seeds;
   }
