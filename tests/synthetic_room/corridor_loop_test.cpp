@@ -77,6 +77,35 @@ TEST(CorridorLoops, TwoViewsDownOneCorridorLegAreNotALoop) {
   EXPECT_EQ(slam::detectLoops(corner, params, &stats).size(), 1u);
 }
 
+// The camera's true motion from the corner with the plant (frame 139) to frame 141.
+Pose cornerMotion(const RoomScanSource& source) {
+  return source.load(139).T_world_cam_given->inverse() * *source.load(141).T_world_cam_given;
+}
+
+// An odometry's error: a turn of `yaw_deg` about the camera's vertical and a shift (camera frame).
+Pose odometryDrift(double yaw_deg, const Eigen::Vector3d& shift_m) {
+  Pose drift = Pose::Identity();
+  drift.linear() = Eigen::AngleAxisd(yaw_deg * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  drift.translation() = shift_m;
+  return drift;
+}
+
+// The corner seen again: frames 139 and 141, the second labelled 100 frames later (a camera that
+// came back) and placed `drift` off its true pose relative to the first, as a drifting odometry
+// would; no point features (the corridor's plain walls give them little to agree on).
+KeyframeStore cornerSeenAgain(const RoomScanSource& source, const Pose& drift) {
+  Keyframe first = keyframeOf(source, 139);
+  first.features = {};
+  Keyframe again = keyframeOf(source, 141);
+  again.frame_index = 239;
+  again.features = {};
+  again.T_world_cam = cornerMotion(source) * drift;
+  KeyframeStore corner;
+  corner.add(std::move(first));
+  corner.add(std::move(again));
+  return corner;
+}
+
 // The walk back to its start meets the first pass's keyframes 35 cm off where its odometry puts
 // them, and the corridor's plain walls give the point features little to agree on. The corner
 // seen again (frames 139 and 141), the odometry 30 cm and 5 degrees off, and no features: aligned
@@ -85,19 +114,8 @@ TEST(CorridorLoops, TwoViewsDownOneCorridorLegAreNotALoop) {
 TEST(CorridorLoops, AReturnFarOffItsOdometryIsStillALoop) {
   const RoomScanSource source = corridorWalk(145);
   const slam::LoopParams params = whateverTheCodes();
-  KeyframeStore corner;
-  Keyframe first = keyframeOf(source, 139);
-  first.features = {};
-  const Pose truth = source.load(139).T_world_cam_given->inverse() * *source.load(141).T_world_cam_given;
-  Keyframe again = keyframeOf(source, 141);
-  again.frame_index = 239;
-  again.features = {};
-  Pose drift = Pose::Identity();
-  drift.linear() = Eigen::AngleAxisd(5.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
-  drift.translation() = Eigen::Vector3d(0.2, 0.05, 0.22);  // 30 cm
-  again.T_world_cam = truth * drift;
-  corner.add(std::move(first));
-  corner.add(std::move(again));
+  const Pose truth = cornerMotion(source);
+  const KeyframeStore corner = cornerSeenAgain(source, odometryDrift(5.0, {0.2, 0.05, 0.22}));  // 30 cm
   slam::LoopStats stats;
   const std::vector<slam::PoseGraphEdge> loops = slam::detectLoops(corner, params, &stats);
   ASSERT_EQ(loops.size(), 1u);
@@ -119,19 +137,8 @@ TEST(CorridorLoops, AReturnFarOffItsOdometryIsStillALoop) {
 TEST(CorridorLoops, AReturnFarDownTheCorridorFromItsOdometryIsStillALoop) {
   const RoomScanSource source = corridorWalk(145);
   slam::LoopParams params = whateverTheCodes();
-  KeyframeStore corner;
-  Keyframe first = keyframeOf(source, 139);
-  first.features = {};
-  const Pose truth = source.load(139).T_world_cam_given->inverse() * *source.load(141).T_world_cam_given;
-  Keyframe again = keyframeOf(source, 141);
-  again.frame_index = 239;
-  again.features = {};
-  Pose drift = Pose::Identity();
-  drift.linear() = Eigen::AngleAxisd(3.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
-  drift.translation() = Eigen::Vector3d(0.03, 0.02, 0.6);
-  again.T_world_cam = truth * drift;
-  corner.add(std::move(first));
-  corner.add(std::move(again));
+  const Pose truth = cornerMotion(source);
+  const KeyframeStore corner = cornerSeenAgain(source, odometryDrift(3.0, {0.03, 0.02, 0.6}));
   // The walk in between leaned on the motion prior for 60 frames.
   slam::PriorHeldStretch held;
   held.first_index = 160;
