@@ -27,8 +27,12 @@ class ReduceScratch {
 
   // Sums component k of `blocks` partial rows of n_components floats (in double, fixed order,
   // on the GPU) and copies the n_components doubles to out; waits for and checks all kernels
-  // queued before it. `what` names the reduction in error messages.
-  void sumToHost(int blocks, int n_components, double* out, const std::string& what) const;
+  // queued before it. `what` names the reduction in error messages (made into a string only then).
+  void sumToHost(int blocks, int n_components, double* out, const char* what) const;
+  // The same for two reductions whose partial rows lie one after the other (first_blocks rows,
+  // then second_blocks rows): one copy, one wait.
+  void sumTwoToHost(int first_blocks, int second_blocks, int n_components, double* out_first, double* out_second,
+                    const char* what) const;
 
  private:
   std::unique_lock<std::mutex> lock_;

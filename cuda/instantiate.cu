@@ -35,6 +35,12 @@ VF_CUDA_FOR(IntensityGradientKernel)
 template void parallelReduce<normal_row::kSize, IcpKernel>(int, const IcpKernel&, double*);
 template void parallelReduce<normal_row::kSize, PhotometricKernel>(int, const PhotometricKernel&, double*);
 template void parallelReduce<2, ModelNormalScatterKernel>(int, const ModelNormalScatterKernel&, double*);
+template void parallelReduceTwo<normal_row::kSize, IcpKernel, PhotometricKernel>(int, const IcpKernel&, int,
+                                                                                 const PhotometricKernel&, double*,
+                                                                                 double*);
+// (cuda_parity_test compares the two-in-one launch with two separate ones on ICP rows.)
+template void parallelReduceTwo<normal_row::kSize, IcpKernel, IcpKernel>(int, const IcpKernel&, int, const IcpKernel&,
+                                                                         double*, double*);
 // integrate (integrate_kernels.h) and the brick hash (brick_hash.h)
 VF_CUDA_FOR(MarkBricksKernel)
 VF_CUDA_FOR(CountNewBricksKernel)

@@ -1,8 +1,13 @@
 // Device memory, copies and device discovery for the CUDA backend (fusion/cuda_api.h).
 // Every failing CUDA call throws vf::Error naming the call and CUDA's message; deviceCount() is
 // the one exception: it answers 0 and remembers why, so that callers can fall back to the CPU.
+#include <algorithm>
+#include <array>
+#include <cstdlib>
+#include <cstring>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include "check.h"
 #include "core/error.h"
@@ -113,8 +118,84 @@ void release(void* ptr) noexcept {
   (void)cudaGetLastError();
 }
 
+bool waitsAfterEachLaunch() {
+  static const bool wait = [] {
+    const char* value = std::getenv("VDBFUSE_CUDA_SYNC");
+    return value && *value && std::string(value) != "0";
+  }();
+  return wait;
+}
+
+namespace {
+
+// Uploads go through pinned staging buffers and cudaMemcpyAsync. A copy from pageable memory
+// first waits for every kernel queued before it (CUDA's rule for pageable sources), so each
+// frame's upload would drain the stream; from pinned memory it is queued like a kernel. The host
+// copies the caller's bytes into a staging slot first, so the caller's memory is free again when
+// copyToDevice returns, as before. Slots are used in turn; a slot waits for its previous copy
+// (frames ago, in practice) before it is overwritten.
+constexpr size_t kStagingSlots = 8;
+constexpr size_t kMaxStagedBytes = size_t(8) << 20;  // a larger upload (a restored volume) copies directly
+
+struct StagingSlot {
+  void* host = nullptr;
+  size_t capacity = 0;
+  cudaEvent_t copied = nullptr;
+};
+
+struct StagingRing {
+  std::mutex mutex;
+  std::array<StagingSlot, kStagingSlots> slots;
+  size_t next = 0;
+  ~StagingRing() {  // at exit the runtime may already be unloading: failures are ignored
+    for (StagingSlot& slot : slots) {
+      if (slot.copied) (void)cudaEventDestroy(slot.copied);
+      if (slot.host) (void)cudaFreeHost(slot.host);
+    }
+    (void)cudaGetLastError();
+  }
+};
+
+StagingRing& stagingRing() {
+  static StagingRing ring;
+  return ring;
+}
+
+// A slot holding at least `bytes`, its previous copy finished; nullptr where pinned memory cannot
+// be had (the caller then copies directly).
+StagingSlot* stagingSlot(StagingRing& ring, size_t bytes) {
+  StagingSlot& slot = ring.slots[ring.next++ % kStagingSlots];
+  if (slot.copied) detail::check(cudaEventSynchronize(slot.copied), "cudaEventSynchronize (staged upload)");
+  if (slot.capacity < bytes) {
+    if (slot.host) (void)cudaFreeHost(slot.host);
+    slot.host = nullptr;
+    slot.capacity = 0;
+    const size_t capacity = std::max(bytes, size_t(1) << 16);
+    if (cudaHostAlloc(&slot.host, capacity, cudaHostAllocDefault) != cudaSuccess) {
+      (void)cudaGetLastError();
+      slot.host = nullptr;
+      return nullptr;
+    }
+    slot.capacity = capacity;
+  }
+  if (!slot.copied) detail::check(cudaEventCreateWithFlags(&slot.copied, cudaEventDisableTiming), "cudaEventCreate");
+  return &slot;
+}
+
+}  // namespace
+
 void copyToDevice(void* dst, const void* src, size_t bytes) {
   if (bytes == 0) return;
+  if (bytes <= kMaxStagedBytes && !waitsAfterEachLaunch()) {
+    StagingRing& ring = stagingRing();
+    std::lock_guard<std::mutex> lock(ring.mutex);
+    if (StagingSlot* slot = stagingSlot(ring, bytes)) {
+      std::memcpy(slot->host, src, bytes);
+      detail::check(cudaMemcpyAsync(dst, slot->host, bytes, cudaMemcpyHostToDevice, 0), "cudaMemcpyAsync host->device");
+      detail::check(cudaEventRecord(slot->copied, 0), "cudaEventRecord (staged upload)");
+      return;
+    }
+  }
   detail::check(cudaMemcpy(dst, src, bytes, cudaMemcpyHostToDevice), "cudaMemcpy host->device");
 }
 
@@ -135,6 +216,35 @@ void fillZero(void* dst, size_t bytes) {
 
 void synchronize() { detail::check(cudaDeviceSynchronize(), "cudaDeviceSynchronize"); }
 
+void* createEvent() {
+  cudaEvent_t event = nullptr;
+  detail::check(cudaEventCreate(&event), "cudaEventCreate");
+  return event;
+}
+
+void recordEvent(void* event) { detail::check(cudaEventRecord(static_cast<cudaEvent_t>(event), 0), "cudaEventRecord"); }
+
+bool eventReached(void* event) {
+  const cudaError_t status = cudaEventQuery(static_cast<cudaEvent_t>(event));
+  if (status == cudaErrorNotReady) return false;
+  detail::check(status, "cudaEventQuery (a kernel queued before the event failed)");
+  return true;
+}
+
+float elapsedMs(void* start, void* end) {
+  detail::check(cudaEventSynchronize(static_cast<cudaEvent_t>(end)), "cudaEventSynchronize (a kernel queued before the event failed)");
+  float ms = 0.f;
+  detail::check(cudaEventElapsedTime(&ms, static_cast<cudaEvent_t>(start), static_cast<cudaEvent_t>(end)),
+                "cudaEventElapsedTime");
+  return ms;
+}
+
+void destroyEvent(void* event) noexcept {
+  if (!event) return;
+  (void)cudaEventDestroy(static_cast<cudaEvent_t>(event));
+  (void)cudaGetLastError();
+}
+
 bool memoryInfo(size_t* free_bytes, size_t* total_bytes) noexcept {
   if (deviceCount() == 0) return false;
   if (cudaMemGetInfo(free_bytes, total_bytes) == cudaSuccess) return true;
@@ -150,20 +260,24 @@ namespace {
 
 constexpr int kSumThreads = 128;
 
-// Block k sums component k of the partial rows in double, in a fixed order (deterministic).
-__global__ void __launch_bounds__(kSumThreads)
-    sumPartialsKernel(int blocks, int n_components, const float* partials, double* sums) {
+// Block b sums component b % n_components of the partial rows of range b / n_components (range
+// 0: rows [0, first_blocks), range 1: the second_blocks rows after them) in double, in a fixed
+// order (deterministic; one range sums exactly as it would alone).
+__global__ void __launch_bounds__(kSumThreads) sumPartialsKernel(int first_blocks, int second_blocks, int n_components,
+                                                                  const float* partials, double* sums) {
   __shared__ double s[kSumThreads];
-  const int k = blockIdx.x;
+  const int range = int(blockIdx.x) / n_components, k = int(blockIdx.x) % n_components;
+  const int begin = range == 0 ? 0 : first_blocks;
+  const int blocks = range == 0 ? first_blocks : second_blocks;
   double v = 0.0;
-  for (int b = threadIdx.x; b < blocks; b += kSumThreads) v += double(partials[size_t(b) * n_components + k]);
+  for (int b = threadIdx.x; b < blocks; b += kSumThreads) v += double(partials[size_t(begin + b) * n_components + k]);
   s[threadIdx.x] = v;
   __syncthreads();
   for (int offset = kSumThreads / 2; offset > 0; offset >>= 1) {
     if (threadIdx.x < offset) s[threadIdx.x] += s[threadIdx.x + offset];
     __syncthreads();
   }
-  if (threadIdx.x == 0) sums[k] = s[0];
+  if (threadIdx.x == 0) sums[size_t(range) * n_components + k] = s[0];
 }
 
 // A device array that only grows. The old one is dropped before the new allocation, so that a
@@ -208,11 +322,27 @@ ReduceScratch::ReduceScratch(size_t partial_floats, size_t sum_doubles) {
   sums_ = store.sums.atLeast(sum_doubles);
 }
 
-void ReduceScratch::sumToHost(int blocks, int n_components, double* out, const std::string& what) const {
-  sumPartialsKernel<<<n_components, kSumThreads>>>(blocks, n_components, partials_, sums_);
-  check(cudaGetLastError(), "launch of the final sum of " + what);
-  // The blocking copy waits for both kernels and reports their errors.
-  check(cudaMemcpy(out, sums_, sizeof(double) * size_t(n_components), cudaMemcpyDeviceToHost), "kernel " + what);
+void ReduceScratch::sumToHost(int blocks, int n_components, double* out, const char* what) const {
+  sumTwoToHost(blocks, 0, n_components, out, nullptr, what);
+}
+
+void ReduceScratch::sumTwoToHost(int first_blocks, int second_blocks, int n_components, double* out_first,
+                                 double* out_second, const char* what) const {
+  const int ranges = second_blocks > 0 ? 2 : 1;
+  sumPartialsKernel<<<ranges * n_components, kSumThreads>>>(first_blocks, second_blocks, n_components, partials_, sums_);
+  const cudaError_t launched = cudaGetLastError();
+  if (launched != cudaSuccess) check(launched, std::string("launch of the final sum of ") + what);
+  // The blocking copy waits for both kernels (and everything queued before them) and reports
+  // their errors.
+  std::vector<double> both(ranges == 2 ? size_t(2 * n_components) : 0);
+  double* const host = ranges == 2 ? both.data() : out_first;
+  const cudaError_t copied =
+      cudaMemcpy(host, sums_, sizeof(double) * size_t(ranges * n_components), cudaMemcpyDeviceToHost);
+  if (copied != cudaSuccess) check(copied, std::string("kernel ") + what + " (or one queued before it)");
+  if (ranges == 2) {
+    std::copy(host, host + n_components, out_first);
+    std::copy(host + n_components, host + 2 * n_components, out_second);
+  }
 }
 
 }  // namespace vf::cuda::detail

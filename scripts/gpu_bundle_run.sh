@@ -15,7 +15,7 @@
 #   3. cuda_parity_test: largest TSDF difference and pose difference, CPU against CUDA
 #   4. fusion_bench on both captures and the synthetic room, CUDA and CPU: ms per stage (medians)
 #      and per frame, ATE; the room's frame rate against teddy's
-#   5. compute-sanitizer memcheck, racecheck and initcheck on 5 frames, where it exists
+#   5. compute-sanitizer memcheck, racecheck, initcheck and synccheck on 5 frames, where it exists
 # Exit status: 0 when every step passed or there is no NVIDIA device (a "no GPU" line says so),
 # else 1 (a device the bundle cannot use is a failure too).
 set -u
@@ -125,10 +125,13 @@ grep '^\[parity\]' "$LAST" | sed 's/^\[parity\] /     /' | tee -a "$SUMMARY"
 
 # ---- 4. benchmark -------------------------------------------------------------------------------
 declare -A FPS  # frames/s from the four stages' medians, by "name device"
-bench() {  # bench NAME FOLDER|--synthetic-room DEVICE [extra fusion_bench options]
+# bench NAME FOLDER|--synthetic-room DEVICE [extra fusion_bench options]; BENCH_ENV (NAME=VALUE
+# words) goes into fusion_bench's environment.
+bench() {
   local name=$1 folder=$2 device=$3
   shift 3
-  run "bench-$name-$device" 240 "${LAUNCH[@]}" "$BIN/fusion_bench" "$folder" --device "$device" "$@"
+  # shellcheck disable=SC2086
+  run "bench-$name-$device" 240 env ${BENCH_ENV:-} "${LAUNCH[@]}" "$BIN/fusion_bench" "$folder" --device "$device" "$@"
   local line
   line=$(grep '^summary:' "$LAST" | sed 's/^summary: //')
   if [ "$RC" -eq 0 ] && [ -n "$line" ]; then
@@ -141,6 +144,9 @@ bench() {  # bench NAME FOLDER|--synthetic-room DEVICE [extra fusion_bench optio
 say "bench (ms: medians per stage, frame_ms = their sum; ATE against the ground truth; the default 5.86 mm voxels):"
 bench fr1_xyz "$FR1" cuda --timings "$OUT/fr1_xyz_cuda.csv" --trajectory "$OUT/fr1_xyz_cuda_traj.txt"
 bench teddy "$TEDDY" cuda --timings "$OUT/teddy_cuda.csv" --trajectory "$OUT/teddy_cuda_traj.txt"
+# fr1_xyz again with a wait after every launch (VDBFUSE_CUDA_SYNC=1), as the engine ran before its
+# launches were stream-ordered (cuda/parallel.cuh): what the stream order is worth on this GPU.
+BENCH_ENV=VDBFUSE_CUDA_SYNC=1 bench fr1_xyz_sync_each_launch "$FR1" cuda
 bench fr1_xyz "$FR1" cpu
 bench teddy "$TEDDY" cpu
 # Issue 12's large scene, rendered in memory there: the 8 x 6 m room, 300 frames, a full turn.
@@ -162,7 +168,7 @@ fi
 if [ -z "$SANITIZER" ]; then
   say "compute-sanitizer: not found (PATH, /usr/local/cuda*/bin): skipped"
 else
-  for tool in memcheck racecheck initcheck; do
+  for tool in memcheck racecheck initcheck synccheck; do
     if [ "$(elapsed)" -gt "$BUDGET_S" ]; then
       say "compute-sanitizer $tool: skipped, the check has run $(elapsed)s of its ${BUDGET_S}s budget"
       continue

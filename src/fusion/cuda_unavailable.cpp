@@ -20,6 +20,12 @@ void copyToHost(void*, const void*, size_t) { unavailable(); }
 void copyOnDevice(void*, const void*, size_t) { unavailable(); }
 void fillZero(void*, size_t) { unavailable(); }
 void synchronize() {}
+bool waitsAfterEachLaunch() { return true; }
+void* createEvent() { unavailable(); }
+void recordEvent(void*) { unavailable(); }
+bool eventReached(void*) { return true; }
+float elapsedMs(void*, void*) { unavailable(); }
+void destroyEvent(void*) noexcept {}
 bool memoryInfo(size_t*, size_t*) noexcept { return false; }
 
 }  // namespace vf::cuda

@@ -55,7 +55,7 @@ size_t Pipeline::volumeBytes() const { return volume_->bytesHeld(); }
 BrickVolumeView Pipeline::hostVolume() { return volume_->hostView(); }
 
 void Pipeline::measure(const RgbdFrame& frame) {
-  ScopedStage stage(timer_, "measure");
+  ScopedStage stage(timer_, "measure", device_);
   Buffers& b = *buffers_;
   const int w = intrinsics_.width, h = intrinsics_.height;
   if (frame.depth.width() != w || frame.depth.height() != h)
@@ -129,7 +129,7 @@ void Pipeline::measure(const RgbdFrame& frame) {
 }
 
 bool Pipeline::integrate(int& bricks_fused) {
-  ScopedStage stage(timer_, "integrate");
+  ScopedStage stage(timer_, "integrate", device_);
   Buffers& b = *buffers_;
   const uint32_t stamp = uint32_t(state_.frames_processed + 1);
   last_marking_stamp_ = stamp;
@@ -282,7 +282,7 @@ FrameResult Pipeline::processFrame(const RgbdFrame& frame, PoseSource pose_sourc
 void Pipeline::predictForTracking(const Pose& T_world_model) {
   if (state_.has_prediction && !state_.prediction_windowed && state_.T_world_model.matrix() == T_world_model.matrix())
     return;
-  ScopedStage stage(timer_, "raycast");
+  ScopedStage stage(timer_, "raycast", device_);
   raycastForTracking(T_world_model, false);
 }
 
@@ -297,7 +297,7 @@ void Pipeline::commit(const Pose& T_world_cam, bool fuse, FrameResult& result) {
     result.integrated = true;
   }
   {
-    ScopedStage stage(timer_, "raycast");
+    ScopedStage stage(timer_, "raycast", device_);
     raycastForTracking(T_world_cam, result.integrated);
   }
   ++s.frames_processed;

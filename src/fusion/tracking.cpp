@@ -300,9 +300,20 @@ Pipeline::IcpSolution Pipeline::solveIcp(const Pose& initial_guess, const Pose& 
     // Converged once an update moves a point 1 m away by less than a small share of this level's
     // pixel: further iterations cannot change which pixels correspond.
     const double converged = double(p.convergence_px[size_t(l)]) * double(1 << l) / double(intrinsics_.fx);
+    // The geometric rows at pose T_at, and the photometric ones where they are used: one pass
+    // over both, so that the GPU is waited for once per pose, not twice.
+    RowSums photometric{};
+    auto measureAt = [&](const Pose& T_at) {
+      icp.T_world_cam = toRigid3f(T_at);
+      if (!use_photometric) return parallelReduce<normal_row::kSize>(device_, icp.count(), icp);
+      photo.T_world_cam = icp.T_world_cam;
+      photo.T_cam_world = toRigid3f(T_at.inverse());
+      const auto both = parallelReduceTwo<normal_row::kSize>(device_, icp.count(), icp, photo.count(), photo);
+      photometric = both.second;
+      return both.first;
+    };
     for (int it = 0; it < p.iterations[size_t(l)]; ++it) {
-      icp.T_world_cam = toRigid3f(T);
-      RowSums sums = parallelReduce<normal_row::kSize>(device_, icp.count(), icp);
+      RowSums sums = measureAt(T);
       double geometric_weight = pointToPlaneWeight(sums);
       if (l == 0) {
         solution.finest_sums = sums;
@@ -315,19 +326,14 @@ Pipeline::IcpSolution Pipeline::solveIcp(const Pose& initial_guess, const Pose& 
                                                         (p.degenerate_share + normal_scatter) * geometric_weight);
         if (!(T_start.matrix() == T.matrix())) {  // measure again from there
           T = T_start;
-          icp.T_world_cam = toRigid3f(T);
-          sums = parallelReduce<normal_row::kSize>(device_, icp.count(), icp);
+          sums = measureAt(T);
           geometric_weight = pointToPlaneWeight(sums);
           if (sums[normal_row::kInliers] < 6) break;
         }
       }
       const RowSums geometric_sums = sums;
-      if (use_photometric) {
-        photo.T_world_cam = icp.T_world_cam;
-        photo.T_cam_world = toRigid3f(T.inverse());
-        const RowSums photometric = parallelReduce<normal_row::kSize>(device_, photo.count(), photo);
+      if (use_photometric)
         for (int k = normal_row::kHessian; k < normal_row::kSquaredError; ++k) sums[size_t(k)] += photometric[size_t(k)];
-      }
       Eigen::Matrix<double, 6, 1> xi;
       int degenerate = 0;
       double weakest_share = 1;
@@ -356,7 +362,7 @@ FrameResult Pipeline::track(const Pose& guess, const TrackingCheck& check) {
     result.T_world_cam = guess;
     return result;
   }
-  ScopedStage stage(timer_, "track");
+  ScopedStage stage(timer_, "track", device_);
   // The motion prior for the directions the view leaves unconstrained: the last frame's motion
   // continued, when the last frame was tracked and the guess starts from it; else the guess.
   const bool continues = !check.relocalising && state_.last_frame_committed &&

@@ -13,6 +13,7 @@
 #include "fusion/buffer.h"
 #include "fusion/cuda_api.h"
 #include "fusion/device.h"
+#include "fusion/stage_timer.h"
 
 namespace vf {
 namespace {
@@ -101,6 +102,55 @@ TEST(CudaBuffer, CopyOnDeviceAndPartialTransfers) {
   for (int i = 0; i < 10; ++i) EXPECT_EQ(ten[size_t(i)], 0.5f * float(i));
   EXPECT_THROW(b.download(back.data(), 1001), Error);
   EXPECT_THROW(b.upload(host.data(), 1001), Error);
+}
+
+// Uploads are queued from pinned staging slots (cuda/memory.cu) and the host goes on at once:
+// more uploads in a row than there are slots, the host's array rewritten between them, must each
+// arrive whole; and of several uploads to one buffer the last one stays.
+TEST(CudaBuffer, UploadsQueuedInARowArriveIntact) {
+  VF_REQUIRE_GPU();
+  constexpr int kBuffers = 24;  // three times the staging slots
+  const size_t n = 300007;
+  std::vector<Buffer<int>> buffers;
+  for (int b = 0; b < kBuffers; ++b) buffers.emplace_back(Device::Cuda, n);
+  std::vector<int> host(n);
+  for (int b = 0; b < kBuffers; ++b) {
+    for (size_t i = 0; i < n; ++i) host[i] = b * 1000003 + int(i);
+    buffers[size_t(b)].upload(host.data(), n);
+  }
+  for (int round = 0; round < 20; ++round) {
+    std::fill(host.begin(), host.end(), round);
+    buffers[0].upload(host.data(), n);
+  }
+  std::vector<int> back(n);
+  buffers[0].download(back.data(), n);
+  EXPECT_EQ(back, std::vector<int>(n, 19));
+  for (int b = 1; b < kBuffers; ++b) {
+    buffers[size_t(b)].download(back.data(), n);
+    for (size_t i = 0; i < n; ++i) ASSERT_EQ(back[i], b * 1000003 + int(i)) << "buffer " << b << " at " << i;
+  }
+}
+
+// A GPU stage is timed on the GPU's clock between two events (fusion/stage_timer.h), not by when
+// the host got back: the copies below return before the GPU has done them.
+TEST(CudaStageTimer, AGpuStageIsTimedByTheEventsAroundItsWork) {
+  VF_REQUIRE_GPU();
+  StageTimer timer;
+  const size_t bytes = size_t(256) << 20;
+  Buffer<char> a(Device::Cuda, bytes), b(Device::Cuda, bytes);
+  for (int i = 0; i < 3; ++i) {
+    ScopedStage stage(timer, "copy", Device::Cuda);
+    cuda::copyOnDevice(b.data(), a.data(), bytes);
+  }
+  ASSERT_EQ(timer.stages(), std::vector<std::string>{"copy"});
+  const std::vector<double> samples = timer.samples("copy");
+  ASSERT_EQ(samples.size(), 3u);
+  for (double ms : samples) {
+    EXPECT_GT(ms, 0.02) << "512 MiB read and written cannot take less";
+    EXPECT_LT(ms, 2000.0);
+  }
+  const StageTimer copy = timer;  // the samples, no events
+  EXPECT_EQ(copy.samples("copy"), samples);
 }
 
 TEST(CudaBuffer, MoveTransfersOwnershipAndResetFreesIt) {

@@ -429,6 +429,21 @@ TEST(CudaParity, IcpReductionMatchesADoubleSumWithinFloatRounding) {
   EXPECT_EQ(small_gpu[normal_row::kMeasured], small_cpu[normal_row::kMeasured]);
   for (int c = 0; c < normal_row::kSize; ++c)
     EXPECT_NEAR(small_gpu[size_t(c)], small_cpu[size_t(c)], 1e-5 * std::abs(small_cpu[size_t(c)]) + 1e-6);
+
+  // Two reductions in one launch (tracking's geometric and photometric rows at one pose) give
+  // the two launches' sums bit for bit, whatever their sizes: both large, one smaller than a
+  // block, one empty.
+  IcpKernel moved = device_icp;
+  moved.T_world_cam = toRigid3f(test::poseFrom(0.31, -0.2, 0.1, 0.003, -0.001, 0.002));
+  for (const std::array<int, 2>& sizes : {std::array<int, 2>{n, n - 5000}, {100, n}, {n, 0}, {0, 100}}) {
+    const auto both = parallelReduceTwo<normal_row::kSize>(Device::Cuda, sizes[0], device_icp, sizes[1], moved);
+    const auto first = parallelReduce<normal_row::kSize>(Device::Cuda, sizes[0], device_icp);
+    const auto second = parallelReduce<normal_row::kSize>(Device::Cuda, sizes[1], moved);
+    for (int c = 0; c < normal_row::kSize; ++c) {
+      EXPECT_EQ(both.first[size_t(c)], first[size_t(c)]) << "sizes " << sizes[0] << ", " << sizes[1] << ": component " << c;
+      EXPECT_EQ(both.second[size_t(c)], second[size_t(c)]) << "sizes " << sizes[0] << ", " << sizes[1] << ": component " << c;
+    }
+  }
 }
 
 }  // namespace

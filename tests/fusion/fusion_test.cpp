@@ -5,9 +5,12 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <functional>
 #include <limits>
 #include <set>
+#include <string>
+#include <thread>
 #include <tuple>
 #include <random>
 #include <vector>
@@ -21,6 +24,7 @@
 #include "fusion/parallel.h"
 #include "fusion/pipeline.h"
 #include "fusion/raycast_kernels.h"
+#include "fusion/stage_timer.h"
 #include "synthetic_scene.h"
 #include "test_data.h"
 
@@ -324,6 +328,28 @@ TEST(Tracking, TheEightLaneIcpReductionSumsTheSameRowsAsOnePixelAtATime) {
     EXPECT_EQ(lanes[normal_row::kInliers], exact[normal_row::kInliers]);
     EXPECT_EQ(lanes[normal_row::kMeasured], exact[normal_row::kMeasured]);
   }
+}
+
+// The CPU's stage times (the GPU's are events: cuda_memory_test): every stage in the order it
+// first ran, one sample per run, at least as long as the work; a copy keeps the samples.
+TEST(StageTimer, CpuStagesAreTimedInTheOrderTheyRanAndACopyKeepsTheSamples) {
+  StageTimer timer;
+  for (int i = 0; i < 3; ++i) {
+    { ScopedStage measure(timer, "measure"); std::this_thread::sleep_for(std::chrono::milliseconds(2)); }
+    { ScopedStage track(timer, "track", Device::Cpu); }
+  }
+  EXPECT_EQ(timer.stages(), (std::vector<std::string>{"measure", "track"}));
+  ASSERT_EQ(timer.samples("measure").size(), 3u);
+  ASSERT_EQ(timer.samples("track").size(), 3u);
+  for (double ms : timer.samples("measure")) EXPECT_GE(ms, 2.0);
+  EXPECT_GE(timer.median("measure"), 2.0);
+  EXPECT_NEAR(timer.total("measure"), 3 * timer.mean("measure"), 1e-9);
+  const StageTimer copy = timer;
+  EXPECT_EQ(copy.samples("measure"), timer.samples("measure"));
+  StageTimer assigned;
+  assigned = timer;
+  EXPECT_EQ(assigned.stages(), timer.stages());
+  EXPECT_EQ(assigned.samples("track"), timer.samples("track"));
 }
 
 TEST(Volume, BricksAreAllocatedOnlyAlongTheObservedSurface) {
