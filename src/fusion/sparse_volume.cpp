@@ -210,14 +210,20 @@ void SparseVolume::refreshView() {
 
 int SparseVolume::readCounter(Counter c) const {
   int v = 0;
-  if (device_ == Device::Cuda) cuda::copyToHost(&v, counters_.data() + c, sizeof v);
-  else v = counters_.data()[c];
+  readCounters(c, 1, &v);
   return v;
 }
 
-void SparseVolume::setCounter(Counter c, int value) {
-  if (device_ == Device::Cuda) cuda::copyToDevice(counters_.data() + c, &value, sizeof value);
-  else counters_.data()[c] = value;
+void SparseVolume::setCounter(Counter c, int value) { setCounters(c, 1, &value); }
+
+void SparseVolume::readCounters(Counter first, int n, int* values) const {
+  if (device_ == Device::Cuda) cuda::copyToHost(values, counters_.data() + first, sizeof(int) * size_t(n));
+  else std::copy(counters_.data() + first, counters_.data() + first + n, values);
+}
+
+void SparseVolume::setCounters(Counter first, int n, const int* values) {
+  if (device_ == Device::Cuda) cuda::copyToDevice(counters_.data() + first, values, sizeof(int) * size_t(n));
+  else std::copy(values, values + n, counters_.data() + first);
 }
 
 void SparseVolume::allocateHash(uint32_t capacity) {
@@ -256,13 +262,20 @@ void SparseVolume::beginFrame(uint32_t stamp) {
   // Load factor at most 0.4 before the frame leaves room for its new bricks (linear probing stays
   // short); a frame that still overflows makes growIfOverflowed() rehash and mark again.
   if (uint64_t(brick_count_) * 5 > uint64_t(hash_capacity_) * 2) rehash();
-  setCounter(kFrameCount, 0);
-  setCounter(kOverflow, 0);
+  static_assert(kFrameCount == 0 && kOverflow == 1 && kNewBricks == 2, "reset together");
+  const int zeros[3] = {0, 0, 0};
+  setCounters(kFrameCount, 3, zeros);
+  marked_ = -1;
   pool_full_ = false;
 }
 
 bool SparseVolume::growIfOverflowed() {
-  if (readCounter(kOverflow) == 0) return false;
+  int marked_and_overflow[2];
+  readCounters(kFrameCount, 2, marked_and_overflow);
+  if (marked_and_overflow[1] == 0) {
+    marked_ = marked_and_overflow[0];  // assignSlots() needs no second wait for it
+    return false;
+  }
   rehash();  // forgets this frame's partial list and stamps: marking runs again from scratch
   beginFrame(marking_stamp_);
   return true;
@@ -285,23 +298,34 @@ bool SparseVolume::growPool(int needed) {
 }
 
 int SparseVolume::assignSlots() {
-  const int touched = readCounter(kFrameCount);
+  const int touched = marked_ >= 0 ? marked_ : readCounter(kFrameCount);
+  marked_ = -1;
   if (touched == 0) return 0;
   int* counters = counters_.data();
-  setCounter(kNewBricks, 0);
   parallelFor(device_, touched, CountNewBricksKernel{view_.hash, frameEntries(), counters + kNewBricks});
-  const int fresh = readCounter(kNewBricks);
+  const int fresh = readCounter(kNewBricks);  // (reset by beginFrame)
   if (fresh > 0 && !growPool(brick_count_ + fresh)) pool_full_ = true;
-  setCounter(kSlotCount, brick_count_);
-  setCounter(kPoolFull, 0);
+  static_assert(kPoolFull == kSlotCount + 1, "set together");
+  const int slot_count_and_full[2] = {brick_count_, 0};
+  setCounters(kSlotCount, 2, slot_count_and_full);
   parallelFor(device_, touched,
               AssignSlotsKernel{view_, frameEntries(), frameSlots(), counters + kSlotCount, pool_capacity_,
                                 counters + kPoolFull});
   if (fresh > 0) {
+    // Each of the `fresh` listed bricks without a slot takes one (the frame lists a brick once),
+    // as far as the pool reaches: known without waiting for the GPU to say so. The CPU, where
+    // reading is free, checks that the kernel agrees.
     const int before = brick_count_;
-    brick_count_ = std::min(readCounter(kSlotCount), pool_capacity_);
-    if (readCounter(kPoolFull) != 0) pool_full_ = true;
-    if (device_ == Device::Cpu) chunks_.add(view_.brick_coords + before, before, brick_count_ - before);
+    brick_count_ = std::min(before + fresh, pool_capacity_);
+    if (before + fresh > pool_capacity_) pool_full_ = true;
+    if (device_ == Device::Cpu) {
+      int slot_count_and_full_now[2];
+      readCounters(kSlotCount, 2, slot_count_and_full_now);
+      if (slot_count_and_full_now[0] != before + fresh || (slot_count_and_full_now[1] != 0) != pool_full_)
+        throw Error("volume: slot assignment gave " + std::to_string(slot_count_and_full_now[0]) + " slots, expected " +
+                    std::to_string(before + fresh) + " (a brick listed twice in one frame?)");
+      chunks_.add(view_.brick_coords + before, before, brick_count_ - before);
+    }
   }
   return touched;
 }

@@ -75,7 +75,9 @@ class SparseVolume {
   void restore(const HostBrickVolume& bricks, const std::vector<uint32_t>& stamps);
 
  private:
-  enum Counter { kFrameCount = 0, kOverflow, kSlotCount, kPoolFull, kNewBricks, kCounters };
+  // Device-side counters. Each host read of one is a wait for the GPU, so those read or reset
+  // together lie together: a frame resets the first three at once, reads the first two at once.
+  enum Counter { kFrameCount = 0, kOverflow, kNewBricks, kSlotCount, kPoolFull, kCounters };
   struct Pool;
   void allocateHash(uint32_t capacity);
   // Into a table twice the size (or more, until the bricks fit); each brick keeps its last
@@ -85,6 +87,9 @@ class SparseVolume {
   bool growPool(int needed);
   int readCounter(Counter c) const;
   void setCounter(Counter c, int value);
+  // Counters first .. first + n - 1 in one copy (on the GPU: one wait, one upload).
+  void readCounters(Counter first, int n, int* values) const;
+  void setCounters(Counter first, int n, const int* values);
 
   VolumeSpec spec_;
   bool with_classes_;
@@ -96,6 +101,7 @@ class SparseVolume {
   bool pool_full_ = false;
   uint32_t hash_capacity_ = 0;
   uint32_t marking_stamp_ = 0;  // the frame beginFrame() was last given
+  int marked_ = -1;             // the frame's marked bricks, read with the overflow flag; -1: not yet read
   Buffer<BrickEntry> entries_;
   Buffer<int> frame_entries_;
   Buffer<int> frame_slots_;
