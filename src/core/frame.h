@@ -21,8 +21,9 @@ struct RgbdFrame {
   std::string name;                         // file stem, used to match label maps
 };
 
-// A sequence of frames (TUM folder, Record3D capture, ...). Loading is random access so that a
-// worker thread can decode ahead while fusion runs.
+// A sequence of frames (TUM folder, Record3D capture, ...). Loading is random access so that
+// worker threads can decode ahead while fusion runs: load() may be called from several threads at
+// once (fusion/frame_prefetcher.h), so a source keeps no mutable state that a mutex does not guard.
 class FrameSource {
  public:
   virtual ~FrameSource() = default;

@@ -207,12 +207,12 @@ std::optional<Reconstruction::Outcome> Reconstruction::afterFrame(const Callback
 
 namespace {
 
-// The frames first..end-1 in order, each with its index: decoded ahead on a thread, or all
+// The frames first..end-1 in order, each with its index: decoded ahead on worker threads, or all
 // decoded before the first is handed out (preload: --bench times fusion without the decoding).
 class FrameFeed {
  public:
-  FrameFeed(const FrameSource& source, int first, int end, bool preload)
-      : prefetcher_(source, first, preload ? 0 : end - first), preload_(preload), next_(first) {
+  FrameFeed(const FrameSource& source, int first, int end, bool preload, int workers)
+      : prefetcher_(source, first, preload ? 0 : end - first, 3, workers), preload_(preload), next_(first) {
     if (preload)
       for (int i = first; i < end; ++i) preloaded_.push_back(source.load(i));
   }
@@ -245,7 +245,7 @@ Reconstruction::Outcome Reconstruction::run(const Callbacks& callbacks, bool pre
 
 Reconstruction::Outcome Reconstruction::runFirstPass(const Callbacks& callbacks, bool preload) {
   const int first = progress_.frames_done;
-  FrameFeed feed(source_, first, frame_count_, preload);
+  FrameFeed feed(source_, first, frame_count_, preload, FramePrefetcher::workersFor(pipeline_->device()));
   for (int i = first; i < frame_count_; ++i) {
     RgbdFrame frame = feed.next();
     // A recorder that drops frames may repeat the last depth image byte for byte while the camera
@@ -308,7 +308,7 @@ Reconstruction::Outcome Reconstruction::runSecondPass(const Callbacks& callbacks
   std::vector<int> pose_of(size_t(frame_count_), -1);
   for (size_t k = 0; k < posed_frames_.size(); ++k) pose_of[size_t(posed_frames_[k])] = int(k);
   const int first = progress_.frames_done;
-  FrameFeed feed(source_, first, frame_count_, preload);
+  FrameFeed feed(source_, first, frame_count_, preload, FramePrefetcher::workersFor(pipeline_->device()));
   for (int i = first; i < frame_count_; ++i) {
     RgbdFrame frame = feed.next();
     FrameResult result;
