@@ -14,7 +14,8 @@
 #      when the brick pool cannot grow any more
 #   3. cuda_parity_test: largest TSDF difference and pose difference, CPU against CUDA
 #   4. fusion_bench on both captures and the synthetic room, CUDA and CPU: ms per stage (medians)
-#      and per frame, ATE; the room's frame rate against teddy's
+#      and per frame, ATE; the room's frame rate against teddy's; fr1_xyz end to end (decoding
+#      included) on both backends
 #   5. compute-sanitizer memcheck, racecheck, initcheck and synccheck on 5 frames, where it exists
 # Exit status: 0 when every step passed or there is no NVIDIA device (a "no GPU" line says so),
 # else 1 (a device the bundle cannot use is a failure too).
@@ -125,6 +126,7 @@ grep '^\[parity\]' "$LAST" | sed 's/^\[parity\] /     /' | tee -a "$SUMMARY"
 
 # ---- 4. benchmark -------------------------------------------------------------------------------
 declare -A FPS  # frames/s from the four stages' medians, by "name device"
+declare -A E2E  # frames/s end to end (--end-to-end: decoding included), by "name device"
 # bench NAME FOLDER|--synthetic-room DEVICE [extra fusion_bench options]; BENCH_ENV (NAME=VALUE
 # words) goes into fusion_bench's environment.
 bench() {
@@ -137,6 +139,7 @@ bench() {
   if [ "$RC" -eq 0 ] && [ -n "$line" ]; then
     say "bench $name $device: $line"
     FPS["$name $device"]=$(echo "$line" | sed -n 's/.* fps=\([0-9.]*\).*/\1/p')
+    E2E["$name $device"]=$(echo "$line" | sed -n 's/.* e2e_fps=\([0-9.]*\).*/\1/p')
   else
     fail "bench $name $device: exit $RC: $(tail -1 "$LAST")"
   fi
@@ -152,6 +155,13 @@ bench teddy "$TEDDY" cpu
 # Issue 12's large scene, rendered in memory there: the 8 x 6 m room, 300 frames, a full turn.
 bench room --synthetic-room cuda
 bench room --synthetic-room cpu
+# Issue 40's acceptance 3: fr1_xyz end to end, decoding included (on as many threads as
+# reconstruct gives the device), the GPU against the CPU on this machine.
+bench fr1_xyz_end_to_end "$FR1" cuda --end-to-end
+bench fr1_xyz_end_to_end "$FR1" cpu --end-to-end
+gpu=${E2E["fr1_xyz_end_to_end cuda"]:-} cpu=${E2E["fr1_xyz_end_to_end cpu"]:-}
+[ -n "$gpu" ] && [ -n "$cpu" ] &&
+  say "fr1_xyz end to end, cuda / cpu frames/s: $(awk -v g="$gpu" -v c="$cpu" 'BEGIN {printf "%.1f", g / c}') (issue 40 asks >= 10)"
 for device in cuda cpu; do
   room=${FPS["room $device"]:-} teddy=${FPS["teddy $device"]:-}
   [ -n "$room" ] && [ -n "$teddy" ] &&
