@@ -61,14 +61,20 @@ void* StageTimer::takeEvent() {
 
 void StageTimer::resolve(bool wait) const {
   size_t done = 0;
-  for (; done < pending_.size(); ++done) {
-    const DeviceSpan& span = pending_[done];
-    if (!wait && !cuda::eventReached(span.end)) break;
-    series_[span.stage].push_back(double(cuda::elapsedMs(span.start, span.end)));
-    spare_events_.push_back(span.start);
-    spare_events_.push_back(span.end);
+  auto forgetDone = [&] { pending_.erase(pending_.begin(), pending_.begin() + std::ptrdiff_t(done)); };
+  try {
+    for (; done < pending_.size(); ++done) {
+      const DeviceSpan& span = pending_[done];
+      if (!wait && !cuda::eventReached(span.end)) break;
+      series_[span.stage].push_back(double(cuda::elapsedMs(span.start, span.end)));
+      spare_events_.push_back(span.start);
+      spare_events_.push_back(span.end);
+    }
+  } catch (...) {  // (a CUDA error): the spans resolved so far are not resolved twice
+    forgetDone();
+    throw;
   }
-  pending_.erase(pending_.begin(), pending_.begin() + std::ptrdiff_t(done));
+  forgetDone();
 }
 
 const std::vector<double>& StageTimer::samples(const std::string& stage) const {
