@@ -53,6 +53,10 @@ struct FrameResult {
 struct TrackingCheck {
   Pose T_world_previous = Pose::Identity();
   bool relocalising = false;
+  // > 0: the coarsest pyramid level pairs points up to this far apart, the middle one half-way
+  // down to IcpParams::max_distance_m, the finest that (a start tens of centimetres off, which
+  // the usual reach leaves without partners: slam/tracker.h).
+  float coarse_reach_m = 0.f;
 };
 
 // Host copies of the current model prediction (level 0), for renders.
@@ -160,7 +164,7 @@ class Pipeline {
   struct IcpSolution;
   // Tracking (fusion/tracking.cpp): the ICP solve, then the decision whether to trust it.
   // T_hold: the pose the directions the view leaves unconstrained are held at.
-  IcpSolution solveIcp(const Pose& initial_guess, const Pose& T_hold);
+  IcpSolution solveIcp(const Pose& initial_guess, const Pose& T_hold, float coarse_reach_m);
   // How the measured points move under a camera-frame pose increment (fusion/tracking.cpp).
   Eigen::Matrix<double, 6, 6> measuredPointMetric() const;
   FrameResult judgeTracking(const IcpSolution& solution, const Pose& guess, const TrackingCheck& check) const;

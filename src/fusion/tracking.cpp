@@ -245,7 +245,7 @@ Eigen::Matrix<double, 6, 6> Pipeline::measuredPointMetric() const {
   return pointMotionMetric(sum / weight, second / weight);
 }
 
-Pipeline::IcpSolution Pipeline::solveIcp(const Pose& initial_guess, const Pose& T_hold) {
+Pipeline::IcpSolution Pipeline::solveIcp(const Pose& initial_guess, const Pose& T_hold, float coarse_reach_m) {
   Buffers& b = *buffers_;
   const IcpParams& p = params_.icp;
   IcpSolution solution;
@@ -270,6 +270,12 @@ Pipeline::IcpSolution Pipeline::solveIcp(const Pose& initial_guess, const Pose& 
     icp.model_intrinsics = intrinsics_.atLevel(modelLevel(l));
     icp.T_model_world = T_model_world;
     icp.max_distance_m = p.max_distance_m;
+    // A start tens of centimetres off (TrackingCheck::coarse_reach_m): the coarse levels pair
+    // points further apart, narrowing to the usual reach at the finest, which is judged.
+    if (coarse_reach_m > p.max_distance_m && l > 0) {
+      const float share = float(l) / float(kPyramidLevels - 1);  // 1 at the coarsest level
+      icp.max_distance_m = p.max_distance_m + (coarse_reach_m - p.max_distance_m) * share;
+    }
     icp.min_normal_cos = std::cos(p.max_normal_angle_deg * float(M_PI) / 180.f);
     icp.huber_m = p.huber_m;
     icp.noise_sigma_quadratic = p.depth_noise_quadratic;
@@ -368,7 +374,7 @@ FrameResult Pipeline::track(const Pose& guess, const TrackingCheck& check) {
   const bool continues = !check.relocalising && state_.last_frame_committed &&
                          guess.matrix() == check.T_world_previous.matrix();
   const Pose T_hold = continues ? check.T_world_previous * state_.last_motion : guess;
-  return judgeTracking(solveIcp(guess, T_hold), guess, check);
+  return judgeTracking(solveIcp(guess, T_hold, check.coarse_reach_m), guess, check);
 }
 
 const char* lostReasonName(LostReason reason) {

@@ -34,6 +34,7 @@ void TrackerParams::validate() const {
   require(min_share_of_recent_match >= 0 && min_share_of_recent_match < 1, "min_share_of_recent_match must be in [0, 1)");
   require(recent_frames >= 1 && recent_frames <= 1000, "recent_frames must be in [1, 1000]");
   require(new_map_after_s >= 0, "new_map_after_s must be 0 (never) or more");
+  require(retry_reach_m >= 0 && retry_reach_m <= 2, "retry_reach_m must be in [0, 2] m");
   require(new_map_min_covered_match >= 0 && new_map_min_covered_match <= 1, "new_map_min_covered_match must be in [0, 1]");
 }
 
@@ -312,12 +313,15 @@ Pose Tracker::placeNewMap(const RgbdFrame& frame, const FrameFeatures& features)
   }
   // Aligned to the old map where the view overlaps it, the direction the view leaves free held
   // where the start put it: a view along a corridor still measures which way it runs. Judged as
-  // a placement (placesNewMap), not as strictly as a relocalisation.
+  // a placement (placesNewMap), not as strictly as a relocalisation. A start that does not place
+  // it is aligned again with partners further apart (retry_reach_m).
   std::optional<FrameResult> best;
   for (const Pose& start : starts) {
     if (!reachable(start, frame.timestamp)) continue;
     pipeline_.predictForTracking(start);
-    const FrameResult r = pipeline_.track(start, TrackingCheck{start, true});
+    FrameResult r = pipeline_.track(start, TrackingCheck{start, true});
+    if (!r.tracked && !placesNewMap(r) && params_.retry_reach_m > 0)
+      r = pipeline_.track(start, TrackingCheck{start, true, params_.retry_reach_m});
     if (!r.tracked && !placesNewMap(r)) continue;
     if (reachable(r.T_world_cam, frame.timestamp) && (!best || r.icp_inlier_fraction > best->icp_inlier_fraction))
       best = r;
