@@ -12,6 +12,11 @@ namespace vf::cuda::detail {
 // Throws vf::Error "CUDA <call> failed: <name> (<description>)" unless status is cudaSuccess.
 // Non-sticky errors are cleared first, so the next call does not report this one again.
 void check(cudaError_t status, const std::string& call);
+// The same, the call named `prefix` + `what`, a string built only on failure: for launches and
+// waits on the hot path, where building it every time cost as much as the launch.
+inline void check(cudaError_t status, const char* prefix, const char* what) {
+  if (status != cudaSuccess) check(status, std::string(prefix) + what);
+}
 
 // Device scratch for parallelReduce: partial rows per block and the final sums, allocated on
 // first use and kept for the life of the process (no cudaMalloc per reduction). An instance is

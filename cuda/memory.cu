@@ -330,8 +330,7 @@ void ReduceScratch::sumTwoToHost(int first_blocks, int second_blocks, int n_comp
                                  double* out_second, const char* what) const {
   const int ranges = second_blocks > 0 ? 2 : 1;
   sumPartialsKernel<<<ranges * n_components, kSumThreads>>>(first_blocks, second_blocks, n_components, partials_, sums_);
-  const cudaError_t launched = cudaGetLastError();
-  if (launched != cudaSuccess) check(launched, std::string("launch of the final sum of ") + what);
+  check(cudaGetLastError(), "launch of the final sum of ", what);
   // The blocking copy waits for both kernels (and everything queued before them) and reports
   // their errors.
   std::vector<double> both(ranges == 2 ? size_t(2 * n_components) : 0);

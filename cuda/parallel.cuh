@@ -14,8 +14,6 @@
 // launch (a fault is then reported naming its kernel).
 #include <cuda_runtime.h>
 
-#include <string>
-
 #include "check.h"
 #include "fusion/cuda_api.h"
 
@@ -93,13 +91,8 @@ void parallelFor(int n, const F& f) {
   if (n <= 0) return;
   const int blocks = (n + kBlockThreads - 1) / kBlockThreads;
   forEachKernel<F><<<blocks < kMaxForBlocks ? blocks : kMaxForBlocks, kBlockThreads>>>(n, f);
-  // Error names are built only on failure: a launch costs a few microseconds, the string as much.
-  const cudaError_t launched = cudaGetLastError();
-  if (launched != cudaSuccess) detail::check(launched, std::string("launch of ") + __PRETTY_FUNCTION__);
-  if (waitsAfterEachLaunch()) {
-    const cudaError_t ran = cudaDeviceSynchronize();
-    if (ran != cudaSuccess) detail::check(ran, std::string("kernel ") + __PRETTY_FUNCTION__);
-  }
+  detail::check(cudaGetLastError(), "launch of ", __PRETTY_FUNCTION__);
+  if (waitsAfterEachLaunch()) detail::check(cudaDeviceSynchronize(), "kernel ", __PRETTY_FUNCTION__);
 }
 
 template <int N, class F>
@@ -109,8 +102,7 @@ void parallelReduce(int n, const F& f, double* out) {
   const int blocks = reduceBlocks(n);
   detail::ReduceScratch scratch(size_t(kMaxReduceBlocks) * N, size_t(N));
   reduceRowsKernel<N, F><<<blocks, kBlockThreads>>>(n, f, scratch.partials());
-  const cudaError_t launched = cudaGetLastError();
-  if (launched != cudaSuccess) detail::check(launched, std::string("launch of ") + __PRETTY_FUNCTION__);
+  detail::check(cudaGetLastError(), "launch of ", __PRETTY_FUNCTION__);
   scratch.sumToHost(blocks, N, out, __PRETTY_FUNCTION__);
 }
 
@@ -127,8 +119,7 @@ void parallelReduceTwo(int n_f, const F& f, int n_g, const G& g, double* out_f, 
   const int f_blocks = reduceBlocks(n_f), g_blocks = reduceBlocks(n_g);
   detail::ReduceScratch scratch(size_t(2 * kMaxReduceBlocks) * N, size_t(2 * N));
   reduceTwoRowsKernel<N, F, G><<<f_blocks + g_blocks, kBlockThreads>>>(n_f, f, f_blocks, n_g, g, scratch.partials());
-  const cudaError_t launched = cudaGetLastError();
-  if (launched != cudaSuccess) detail::check(launched, std::string("launch of ") + __PRETTY_FUNCTION__);
+  detail::check(cudaGetLastError(), "launch of ", __PRETTY_FUNCTION__);
   scratch.sumTwoToHost(f_blocks, g_blocks, N, out_f, out_g, __PRETTY_FUNCTION__);
 }
 
