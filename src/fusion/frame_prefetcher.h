@@ -21,9 +21,10 @@ namespace vf {
 
 class FramePrefetcher {
  public:
+  static constexpr int kDefaultDepth = 3;
   // Frames first .. first + count - 1; at most `depth` of them (at least one per worker) decoded
   // or being decoded beyond the one next() returns next.
-  FramePrefetcher(const FrameSource& source, int first, int count, int depth = 3, int workers = 1);
+  FramePrefetcher(const FrameSource& source, int first, int count, int depth = kDefaultDepth, int workers = 1);
   ~FramePrefetcher();
   FramePrefetcher(const FramePrefetcher&) = delete;
   FramePrefetcher& operator=(const FramePrefetcher&) = delete;

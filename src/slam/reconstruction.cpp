@@ -212,7 +212,9 @@ namespace {
 class FrameFeed {
  public:
   FrameFeed(const FrameSource& source, int first, int end, bool preload, int workers)
-      : prefetcher_(source, first, preload ? 0 : end - first, 3, workers), preload_(preload), next_(first) {
+      : prefetcher_(source, first, preload ? 0 : end - first, FramePrefetcher::kDefaultDepth, workers),
+        preload_(preload),
+        next_(first) {
     if (preload)
       for (int i = first; i < end; ++i) preloaded_.push_back(source.load(i));
   }

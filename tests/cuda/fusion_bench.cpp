@@ -155,13 +155,12 @@ RunResult runFrames(vf::Pipeline& pipeline, const std::vector<vf::RgbdFrame>& fr
 RunResult runFramesDecoding(vf::Pipeline& pipeline, const vf::FrameSource& source, int frames, int workers) {
   RunResult r;
   const Clock::time_point start = Clock::now();
-  vf::FramePrefetcher prefetcher(source, 0, frames, 3, workers);
+  vf::FramePrefetcher prefetcher(source, 0, frames, vf::FramePrefetcher::kDefaultDepth, workers);
   while (std::optional<vf::RgbdFrame> frame = prefetcher.next())
     if (!fuseFrame(pipeline, *frame, r)) break;
   r.loop_ms = msSince(start);
   return r;
 }
-
 
 double median(std::vector<double> v) {
   if (v.empty()) return 0;
