@@ -99,6 +99,21 @@ std::optional<CloudAlignment> alignFromSlidStarts(const KeyframeCloud& source, c
   return best;
 }
 
+// The walk's usual pace, metres a frame: the median over consecutive keyframes of one map.
+double medianPace(const KeyframeStore& keyframes) {
+  std::vector<double> pace;
+  for (int i = 0; i + 1 < keyframes.size(); ++i) {
+    const Keyframe& a = keyframes[i];
+    const Keyframe& b = keyframes[i + 1];
+    const int frames = b.frame_index - a.frame_index;
+    if (a.map != b.map || frames <= 0) continue;
+    pace.push_back((b.T_world_cam.translation() - a.T_world_cam.translation()).norm() / frames);
+  }
+  if (pace.empty()) return 0.0;
+  std::nth_element(pace.begin(), pace.begin() + std::ptrdiff_t(pace.size() / 2), pace.end());
+  return pace[pace.size() / 2];
+}
+
 }  // namespace
 
 void LoopParams::validate() const {
@@ -114,6 +129,7 @@ void LoopParams::validate() const {
 std::vector<PoseGraphEdge> odometryEdges(const KeyframeStore& keyframes, const LoopParams& params,
                                          const std::vector<PriorHeldStretch>& prior_held) {
   std::vector<PoseGraphEdge> edges;
+  const double pace_m = medianPace(keyframes);
   for (int i = 0; i + 1 < keyframes.size(); ++i) {
     const Keyframe& a = keyframes[i];
     const Keyframe& b = keyframes[i + 1];
@@ -139,7 +155,9 @@ std::vector<PoseGraphEdge> odometryEdges(const KeyframeStore& keyframes, const L
       const int frames = b.frame_index - a.frame_index;
       const int held = priorHeldFramesBetween(prior_held, a.frame_index, b.frame_index);
       if (held > 0 && frames > 0 && params.prior_held_drift > 0) {
-        const double held_distance = e.T_from_to.translation().norm() * held / frames;
+        // What the held frames travelled, at least at the walk's pace: a slide that turned back
+        // shrinks the tracked distance, not the doubt.
+        const double held_distance = std::max(e.T_from_to.translation().norm() * held / frames, pace_m * held);
         e.information = weakenFreeTranslation(e.information, params.prior_held_drift * held_distance,
                                               params.free_translation_share);
       }

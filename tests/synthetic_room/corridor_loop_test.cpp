@@ -198,5 +198,42 @@ TEST(CorridorLoops, OdometryAcrossFramesTheMotionPriorHeldIsTrustedLessAlongTheC
   EXPECT_TRUE(slam::odometryEdges(leg, params, earlier)[0].information.isApprox(measured[0].information));
 }
 
+// A slide that turns back: on the corridor's second lap (2400 frames), looking at a side wall
+// with the motion prior holding, the tracker slowed and slid 45 cm back in 8 frames while the
+// walker went on, so the held frames' tracked distance was far less than the walk's, and so was
+// the doubt that scaled with it. Four keyframes down the north leg at their true poses, but the
+// last one tracked as if the camera had gone 5 cm rather than 50: the edge into it is doubted
+// as much as the walk's pace over its held frames says (LoopParams::prior_held_drift), not by
+// the 5 cm it claims.
+TEST(CorridorLoops, OdometryThatSlidBackAcrossHeldFramesIsDoubtedAtTheWalksPace) {
+  const RoomScanSource source = corridorWalk(567);
+  KeyframeStore leg;
+  for (const int index : {521, 536, 551, 566}) {
+    Keyframe k = keyframeOf(source, index);
+    k.T_world_cam = *source.load(index).T_world_cam_given;
+    leg.add(std::move(k));
+  }
+  const Pose truth = leg[2].T_world_cam.inverse() * leg[3].T_world_cam;
+  Pose slid = leg[3].T_world_cam;
+  slid.translation() = leg[2].T_world_cam * (truth.translation() * 0.1);  // 10 % of the way
+  leg[3].T_world_cam = slid;
+  const slam::LoopParams params;
+  const std::vector<slam::PriorHeldStretch> held{{540, 570, "", "", 2}};
+  const std::vector<slam::PoseGraphEdge> doubted = slam::odometryEdges(leg, params, held);
+  ASSERT_EQ(doubted.size(), 3u);
+  ASSERT_LT(doubted[2].T_from_to.translation().norm(), 0.1);
+
+  const Eigen::Vector3d along = truth.translation().normalized();
+  const double walked = truth.translation().norm();  // 15 frames at the walk's pace, all held
+  ASSERT_GT(walked, 0.3);
+  // Doubted by the claimed 5 cm it was 2.3 cm; at the pace, 19.6 (the walk's direction lies a
+  // little off the one the depth leaves freest).
+  EXPECT_GT(sigmaAlong(doubted[2], along), 0.6 * params.prior_held_drift * walked)
+      << "claimed " << doubted[2].T_from_to.translation().norm() << " m";
+  // Across the corridor the edge keeps what its depth measures.
+  const Eigen::Vector3d across = along.cross(Eigen::Vector3d::UnitY()).normalized();
+  EXPECT_LT(sigmaAlong(doubted[2], across), 0.05);
+}
+
 }  // namespace
 }  // namespace vf::synth
