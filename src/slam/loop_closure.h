@@ -57,7 +57,7 @@ struct LoopParams {
   // average (up to 203 mm), the others 2-11 mm (means by share band). So across held frames the
   // edge's variance along each translation direction grows by (prior_held_drift times the
   // distance the held frames travelled (at least the walk's median pace times their number: a
-  // slide that turned back shrinks the tracked distance, not the doubt; 15 of 17 corridor runs
+  // slide that turned back shrinks the tracked distance, not the doubt; 14 of 16 corridor runs
   // better, 2.3 laps 9.57 -> 9.14 cm, README), times min(1, free_translation_share / the direction's
   // share))^2: in full along a free direction, less along one its depth constrains
   // (loop_closure.cpp weakenFreeTranslation). Corridor ATE 14.0 -> 5.9 cm; a run without such
