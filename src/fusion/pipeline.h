@@ -57,6 +57,13 @@ struct TrackingCheck {
   // down to IcpParams::max_distance_m, the finest that (a start tens of centimetres off, which
   // the usual reach leaves without partners: slam/tracker.h).
   float coarse_reach_m = 0.f;
+  // The camera's motion since T_world_previous that the motion prior assumes, where the tracker
+  // knows better than the last frame's motion carried on (frames dropped or cut before this one
+  // or the last: slam/tracker.h). Empty: the last frame's motion.
+  std::optional<Pose> prior_motion = std::nullopt;
+  // The frame intervals since T_world_previous the one-frame limits on motion and on the jump
+  // away from the guess (IcpParams::max_translation_m, max_jump_m, ...) allow for.
+  double limit_intervals = 1.0;
 };
 
 // Host copies of the current model prediction (level 0), for renders.

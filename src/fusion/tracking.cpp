@@ -370,10 +370,11 @@ FrameResult Pipeline::track(const Pose& guess, const TrackingCheck& check) {
   }
   ScopedStage stage(timer_, "track", device_);
   // The motion prior for the directions the view leaves unconstrained: the last frame's motion
-  // continued, when the last frame was tracked and the guess starts from it; else the guess.
+  // continued (or the caller's TrackingCheck::prior_motion across dropped frames), when the last
+  // frame was tracked and the guess starts from it; else the guess.
   const bool continues = !check.relocalising && state_.last_frame_committed &&
                          guess.matrix() == check.T_world_previous.matrix();
-  const Pose T_hold = continues ? check.T_world_previous * state_.last_motion : guess;
+  const Pose T_hold = continues ? check.T_world_previous * check.prior_motion.value_or(state_.last_motion) : guess;
   return judgeTracking(solveIcp(guess, T_hold, check.coarse_reach_m), guess, check);
 }
 
@@ -420,6 +421,7 @@ FrameResult Pipeline::judgeTracking(const IcpSolution& solution, const Pose& gue
   const Pose jump = guess.inverse() * T;
   result.jump_m = float(jump.translation().norm());
   result.jump_deg = float(rotationDeg(jump));
+  const float intervals = float(check.limit_intervals);  // the one-frame limits, that many times over
   const float min_fraction = check.relocalising ? p.relocalise_min_inlier_fraction : p.min_inlier_fraction;
   const float max_rmse = check.relocalising ? p.relocalise_max_rmse_m : p.max_rmse_m;
   char why[160] = "";
@@ -442,13 +444,13 @@ FrameResult Pipeline::judgeTracking(const IcpSolution& solution, const Pose& gue
   } else if (result.icp_rmse_m > max_rmse) {
     reject(LostReason::HighResidual);
     std::snprintf(why, sizeof(why), "residual %.1f mm above %.1f mm", 1e3f * result.icp_rmse_m, 1e3f * max_rmse);
-  } else if (!check.relocalising && motion.translation().norm() > p.max_translation_m) {
+  } else if (!check.relocalising && motion.translation().norm() > p.max_translation_m * intervals) {
     reject(LostReason::TooFast);
-    std::snprintf(why, sizeof(why), "moved %.2f m in one frame", motion.translation().norm());
-  } else if (!check.relocalising && rotationDeg(motion) > p.max_rotation_deg) {
+    std::snprintf(why, sizeof(why), "moved %.2f m in %s", motion.translation().norm(), intervals > 1.f ? "the frames dropped" : "one frame");
+  } else if (!check.relocalising && rotationDeg(motion) > p.max_rotation_deg * intervals) {
     reject(LostReason::TooFast);
-    std::snprintf(why, sizeof(why), "turned %.1f deg in one frame", rotationDeg(motion));
-  } else if (!check.relocalising && (result.jump_m > p.max_jump_m || result.jump_deg > p.max_jump_deg)) {
+    std::snprintf(why, sizeof(why), "turned %.1f deg in %s", rotationDeg(motion), intervals > 1.f ? "the frames dropped" : "one frame");
+  } else if (!check.relocalising && (result.jump_m > p.max_jump_m * intervals || result.jump_deg > p.max_jump_deg * intervals)) {
     reject(LostReason::Jump);
     std::snprintf(why, sizeof(why), "jumped %.1f cm and %.1f deg away from the predicted pose", 100.f * result.jump_m,
                   result.jump_deg);

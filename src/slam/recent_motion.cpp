@@ -13,6 +13,11 @@ void RecentMotion::add(const Pose& T_world_cam, double timestamp, bool follows) 
   while (samples_.size() > 2 && samples_.front().timestamp < timestamp - window_s_) samples_.pop_front();
 }
 
+double RecentMotion::lastStepSeconds() const {
+  if (samples_.size() < 2) return std::nan("");
+  return samples_.back().timestamp - samples_[samples_.size() - 2].timestamp;
+}
+
 Pose RecentMotion::extrapolate(double timestamp, double max_speed_m_s) const {
   if (samples_.empty()) return Pose::Identity();
   const Sample& last = samples_.back();

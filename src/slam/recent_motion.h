@@ -31,6 +31,8 @@ class RecentMotion {
   // The last pose added (the last one tracked well) and its time; identity and 0 before the first.
   Pose lastPose() const { return samples_.empty() ? Pose::Identity() : samples_.back().T_world_cam; }
   double lastTime() const { return samples_.empty() ? 0.0 : samples_.back().timestamp; }
+  // The time between the last two poses added (NaN before there are two).
+  double lastStepSeconds() const;
 
   // Where the camera is at `timestamp` had it walked on from the last pose at its median velocity
   // (each component of the per-frame camera-frame translation rates; at most max_speed_m_s) and

@@ -35,6 +35,7 @@ void TrackerParams::validate() const {
   require(recent_frames >= 1 && recent_frames <= 1000, "recent_frames must be in [1, 1000]");
   require(new_map_after_s >= 0, "new_map_after_s must be 0 (never) or more");
   require(retry_reach_m >= 0 && retry_reach_m <= 2, "retry_reach_m must be in [0, 2] m");
+  require(dropped_frames_bridged >= 0 && dropped_frames_bridged <= 30, "dropped_frames_bridged must be in [0, 30]");
   require(new_map_min_covered_match >= 0 && new_map_min_covered_match <= 1, "new_map_min_covered_match must be in [0, 1]");
 }
 
@@ -74,7 +75,22 @@ Pose Tracker::predictedPose(const RgbdFrame& frame) const {
   const Pose& T = pipeline_.pose();
   if (poses_ == PoseSource::GivenIcp && last_given_ && frame.T_world_cam_given)
     return T * (last_given_->inverse() * *frame.T_world_cam_given);
-  return pipeline_.params().icp.constant_velocity ? T * pipeline_.state().last_motion : T;
+  return pipeline_.params().icp.constant_velocity ? T * priorMotion(frame).value_or(pipeline_.state().last_motion) : T;
+}
+
+double Tracker::stepsSinceLastFrame(const RgbdFrame& frame) const {
+  // recent_motion_'s last two poses are the pipeline's last motion when the last good frame is
+  // the one before this one. Timestamps jitter by a few per cent (TUM's by up to a third): only
+  // a step half as long again, or two thirds shorter, counts.
+  const double last_step_s = recent_motion_.lastStepSeconds();
+  if (last_good_index_ != frame.index - 1 || !(last_step_s > 0)) return 1.0;
+  const double steps = (frame.timestamp - recent_motion_.lastTime()) / last_step_s;
+  return std::isfinite(steps) && steps > 0 && (steps >= 1.5 || steps <= 1.0 / 1.5) ? steps : 1.0;
+}
+
+std::optional<Pose> Tracker::priorMotion(const RgbdFrame& frame) const {
+  if (stepsSinceLastFrame(frame) == 1.0) return std::nullopt;
+  return recent_motion_.lastPose().inverse() * extrapolatedPose(frame.timestamp);
 }
 
 Tracker::Step Tracker::lost(FrameResult result) {
@@ -144,7 +160,10 @@ Tracker::Step Tracker::start(const RgbdFrame& frame) {
 
 Tracker::Step Tracker::trackOn(const RgbdFrame& frame) {
   if (std::optional<Step> none = lostWithoutDepth(frame)) return *none;
-  FrameResult r = pipeline_.track(predictedPose(frame), TrackingCheck{pipeline_.pose(), false});
+  TrackingCheck check{pipeline_.pose(), false};
+  check.prior_motion = priorMotion(frame);
+  check.limit_intervals = std::clamp(stepsSinceLastFrame(frame), 1.0, 1.0 + double(params_.dropped_frames_bridged));
+  FrameResult r = pipeline_.track(predictedPose(frame), check);
   if (r.tracked) rejectCollapse(r);
   if (!r.tracked) return lost(r);
   recent_match_.push_back(r.icp_inlier_fraction);
