@@ -44,7 +44,7 @@ Pose RecentMotion::extrapolate(double timestamp, double max_speed_m_s) const {
   // The turn: the last step's, carried on (see the header).
   const Sample& before = samples_[samples_.size() - 2];
   const Eigen::AngleAxisd last_turn((before.T_world_cam.inverse() * last.T_world_cam).linear());
-  const double steps = elapsed_s / (last.timestamp - before.timestamp);
+  const double steps = elapsed_s / lastStepSeconds();
   Pose step = Pose::Identity();
   step.linear() = Eigen::AngleAxisd(last_turn.angle() * steps, last_turn.axis()).toRotationMatrix();
   step.translation() = move;

@@ -71,11 +71,11 @@ bool Tracker::hasDepth(const RgbdFrame& frame, std::string* why) const {
   return false;
 }
 
-Pose Tracker::predictedPose(const RgbdFrame& frame) const {
+Pose Tracker::predictedPose(const RgbdFrame& frame, const std::optional<Pose>& prior_motion) const {
   const Pose& T = pipeline_.pose();
   if (poses_ == PoseSource::GivenIcp && last_given_ && frame.T_world_cam_given)
     return T * (last_given_->inverse() * *frame.T_world_cam_given);
-  return pipeline_.params().icp.constant_velocity ? T * priorMotion(frame).value_or(pipeline_.state().last_motion) : T;
+  return pipeline_.params().icp.constant_velocity ? T * prior_motion.value_or(pipeline_.state().last_motion) : T;
 }
 
 double Tracker::stepsSinceLastFrame(const RgbdFrame& frame) const {
@@ -86,11 +86,6 @@ double Tracker::stepsSinceLastFrame(const RgbdFrame& frame) const {
   if (last_good_index_ != frame.index - 1 || !(last_step_s > 0)) return 1.0;
   const double steps = (frame.timestamp - recent_motion_.lastTime()) / last_step_s;
   return std::isfinite(steps) && steps > 0 && (steps >= 1.5 || steps <= 1.0 / 1.5) ? steps : 1.0;
-}
-
-std::optional<Pose> Tracker::priorMotion(const RgbdFrame& frame) const {
-  if (stepsSinceLastFrame(frame) == 1.0) return std::nullopt;
-  return recent_motion_.lastPose().inverse() * extrapolatedPose(frame.timestamp);
 }
 
 Tracker::Step Tracker::lost(FrameResult result) {
@@ -161,9 +156,12 @@ Tracker::Step Tracker::start(const RgbdFrame& frame) {
 Tracker::Step Tracker::trackOn(const RgbdFrame& frame) {
   if (std::optional<Step> none = lostWithoutDepth(frame)) return *none;
   TrackingCheck check{pipeline_.pose(), false};
-  check.prior_motion = priorMotion(frame);
-  check.limit_intervals = std::clamp(stepsSinceLastFrame(frame), 1.0, 1.0 + double(params_.dropped_frames_bridged));
-  FrameResult r = pipeline_.track(predictedPose(frame), check);
+  // Across dropped frames the prior is the recent pace carried over the time unseen, not one
+  // frame's step, and the one-frame limits allow for the intervals (dropped_frames_bridged).
+  const double steps = stepsSinceLastFrame(frame);
+  if (steps != 1.0) check.prior_motion = recent_motion_.lastPose().inverse() * extrapolatedPose(frame.timestamp);
+  check.limit_intervals = std::clamp(steps, 1.0, 1.0 + double(params_.dropped_frames_bridged));
+  FrameResult r = pipeline_.track(predictedPose(frame, check.prior_motion), check);
   if (r.tracked) rejectCollapse(r);
   if (!r.tracked) return lost(r);
   recent_match_.push_back(r.icp_inlier_fraction);

@@ -98,7 +98,7 @@ struct TrackerParams {
   float retry_reach_m = 0.3f;
   // Frames dropped from a sequence (a recorder that fell behind, frames cut) show in its
   // timestamps. Across them the motion prior of the directions a view leaves free is the recent
-  // pace carried over the time unseen (Tracker::priorMotion), not one frame's step, and the
+  // pace carried over the time unseen (Tracker::trackOn, TrackingCheck::prior_motion), not one frame's step, and the
   // one-frame limits on motion and on the jump away from the guess (IcpParams::max_translation_m,
   // max_jump_m, ...) grow with the frame intervals, for up to this many dropped frames; beyond,
   // a gap is found again by relocalisation. The ring corridor, walk 2 with 20 frames cut at walk
@@ -163,9 +163,6 @@ class Tracker {
   Pose extrapolatedPose(double timestamp) const;
   // Whether the camera can have reached T by `timestamp` since it was last tracked.
   bool reachable(const Pose& T, double timestamp) const;
-  // The motion prior where the time since the last frame is not that frame's own step (frames
-  // dropped or cut, before this one or the last): the recent pace, extrapolated (TrackingCheck::prior_motion).
-  std::optional<Pose> priorMotion(const RgbdFrame& frame) const;
   // The time since the last frame in units of that frame's own step, where the last frame was
   // tracked and the two differ by half or more; else 1.
   double stepsSinceLastFrame(const RgbdFrame& frame) const;
@@ -177,7 +174,8 @@ class Tracker {
   std::optional<Step> lostWithoutDepth(const RgbdFrame& frame, const char* note = "");
   // force: the first view of a map is always kept (the frames after it are anchored to it).
   void harvest(const RgbdFrame& frame, const FrameResult& result, bool force = false);
-  Pose predictedPose(const RgbdFrame& frame) const;
+  // prior_motion: the motion since the last frame across dropped frames (TrackingCheck::prior_motion).
+  Pose predictedPose(const RgbdFrame& frame, const std::optional<Pose>& prior_motion) const;
   void markLastGood(const Pose& T, const RgbdFrame& frame);
   // Marks a tracked result lost when it matched far less than the recent frames.
   void rejectCollapse(FrameResult& r) const;
