@@ -10,6 +10,7 @@
 
 #include "app/command_registry.h"
 #include "app/depth_range_tally.h"
+#include "app/frame_log.h"
 #include "app/frame_renders.h"
 #include "app/memory_check.h"
 #include "app/progress.h"
@@ -18,6 +19,7 @@
 #include "app/run_control.h"
 #include "core/atomic_output.h"
 #include "core/error.h"
+#include "core/mapped_file.h"
 #include "core/version.h"
 #include "slam/reconstruction.h"
 #include "io/trajectory_io.h"
@@ -117,6 +119,10 @@ void runReconstruct(const ReconstructOptions& o) {
   meta.software_version = VDBFUSE_VERSION_STRING;
   if (labeled) meta.classes = labeled->classes();
   meta.source_options_json = bakeSourceJson(o, fusion);
+  FrameLog frame_log;  // --frame-log: the first pass's frames (a resumed run's from before, too)
+  if (o.resume && !o.frame_log.empty() && std::filesystem::exists(o.frame_log))
+    frame_log.keepRowsBefore(readRegularFile(o.frame_log, "frame log", kMaxTextFileBytes),
+                             run.pass() == 2 ? run.frameCount() : run.framesDone(), run.trajectory());
   // Trajectory and scene of the frames done (and the checkpoint), each written atomically. The
   // scene records gravity's up and the camera for its exports (vdb/scene_frame.h).
   struct Written {
@@ -136,6 +142,7 @@ void runReconstruct(const ReconstructOptions& o) {
     }
     if (!o.trajectory.empty()) writeTumTrajectory(o.trajectory, run.trajectory());
     if (!o.odometry.empty()) writeTumTrajectory(o.odometry, run.pass() == 2 ? run.odometry() : run.trajectory());
+    if (!o.frame_log.empty()) writeFileAtomic(o.frame_log, frame_log.csv());
     if (o.output.empty()) return w;
     if (with_checkpoint) run.saveCheckpoint(o.checkpoint());
     return w;
@@ -150,6 +157,7 @@ void runReconstruct(const ReconstructOptions& o) {
   callbacks.on_frame = [&](const RgbdFrame& frame, const FrameResult& result) {
     if (result.integrated) bricks_per_frame.push_back(result.bricks_fused);
     if (run.pass() == 1) {
+      frame_log.add(frame, result);
       renders.add(run.framesDone() - 1, frame, run.pipeline());
       if (result.integrated) depth_range.add(frame.depth);
     }

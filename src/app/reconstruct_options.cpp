@@ -68,6 +68,10 @@ void addReconstructOptions(CLI::App& cmd, ReconstructOptions& o) {
   cmd.add_option("--report-json", o.report_json,
                  "Write the run's figures as JSON once it finished: frames, tracked, fused, lost (by reason), "
                  "seconds, peak_mib, bricks, active_voxels, device");
+  cmd.add_option("--frame-log", o.frame_log,
+                 "Write a CSV row per frame the first pass tracked: how well it matched the model, the directions "
+                 "its view left free, how far it moved, and why a lost frame was lost (README \"Reading a run's "
+                 "frame log\")");
   cmd.add_flag("--resume", o.resume, "Continue an interrupted run from OUTPUT.checkpoint (same dataset and options)");
 }
 
@@ -116,6 +120,7 @@ void claimOutputs(const ReconstructOptions& o) {
   if (!o.output.empty()) OutputPolicy::requireExtension(o.output, {".vdb"}, "-o");
   if (!o.video.empty()) OutputPolicy::requireExtension(o.video, {".mp4"}, "--video");
   if (!o.report_json.empty()) OutputPolicy::requireExtension(o.report_json, {".json"}, "--report-json");
+  if (!o.frame_log.empty()) OutputPolicy::requireExtension(o.frame_log, {".csv"}, "--frame-log");
   OutputPolicy outputs(o.force || o.resume);
   outputs.input(o.dataset);
   if (!o.labels_dir.empty()) outputs.input(o.labels_dir);
@@ -123,6 +128,7 @@ void claimOutputs(const ReconstructOptions& o) {
   if (!o.trajectory.empty()) outputs.file(o.trajectory, "--trajectory");
   if (!o.odometry.empty()) outputs.file(o.odometry, "--odometry");
   if (!o.report_json.empty()) outputs.file(o.report_json, "--report-json");
+  if (!o.frame_log.empty()) outputs.file(o.frame_log, "--frame-log");
   if (!o.video.empty()) outputs.file(o.video, "--video");
   if (!o.output.empty()) outputs.file(o.checkpoint(), "the checkpoint");
   if (!o.renders_dir.empty()) outputs.filesInto(o.renders_dir, "--renders");

@@ -18,6 +18,7 @@ struct ReconstructOptions {
   std::string dataset, output, trajectory;
   std::string odometry;            // the first pass's trajectory too, before the loop closure
   std::string report_json;         // the run's figures (reconstruct_report.h's RunFigures)
+  std::string frame_log;           // a CSV row per frame of the first pass (frame_log.h)
   std::string loop_closure = "on";
   std::optional<std::string> volume_size;  // gone: kept only to say so
   float voxel_size_m = VolumeSpec{}.voxel_size_m;

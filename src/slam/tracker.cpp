@@ -147,6 +147,7 @@ Tracker::Step Tracker::start(const RgbdFrame& frame) {
   const Pose T = poses_ == PoseSource::GivenIcp ? *frame.T_world_cam_given : Pose::Identity();
   pipeline_.commit(T, true, step.result);
   step.result.icp_inlier_fraction = 1.f;
+  step.result.map_start = true;
   state_ = State::Tracking;
   markLastGood(T, frame);
   harvest(frame, step.result);
@@ -360,6 +361,7 @@ Tracker::Step Tracker::startNewMap(const RgbdFrame& frame, const Pose& T) {
   step.new_map = true;
   pipeline_.commit(T, true, step.result);
   step.result.icp_inlier_fraction = 1.f;
+  step.result.map_start = true;
   state_ = State::Tracking;
   recent_match_.clear();
   markLastGood(T, frame);

@@ -100,18 +100,25 @@ std::string slurp(const std::string& path) {
 bool isTemp(const std::string& name) { return name[0] == '.' && name.find(".tmp") != std::string::npos; }
 
 struct OutputSet {
-  std::string dir, scene, trajectory, checkpoint;
+  std::string dir, scene, trajectory, checkpoint, frame_log;
   std::vector<std::string> args(const std::string& dataset, int frames, const std::string& mode) const {
     std::vector<std::string> a = {"reconstruct", dataset, "-o", scene, "--trajectory", trajectory,
-                                  "--voxel-size-m", "0.047", "--max-frames", std::to_string(frames),
-                                  "--device", "cpu", "-q"};
+                                  "--frame-log", frame_log, "--voxel-size-m", "0.047",
+                                  "--max-frames", std::to_string(frames), "--device", "cpu", "-q"};
     if (!mode.empty()) a.push_back(mode);
     return a;
   }
   explicit OutputSet(const std::string& name)
       : dir(test::tempDir(name)), scene(dir + "/scene.vdb"), trajectory(dir + "/trajectory.txt"),
-        checkpoint(dir + "/scene.vdb.checkpoint") {}
+        checkpoint(dir + "/scene.vdb.checkpoint"), frame_log(dir + "/frames.csv") {}
 };
+
+std::vector<std::string> linesOf(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
 
 // Every file in the folder is a complete output or a temp file; returns how many temp files.
 int checkFolder(const OutputSet& run, int frames) {
@@ -134,6 +141,11 @@ int checkFolder(const OutputSet& run, int frames) {
       EXPECT_NO_THROW(EXPECT_LE(int(readTumTrajectory(path).size()), frames)) << path;
     } else if (path == run.checkpoint) {
       EXPECT_NO_THROW(readCheckpointSettings(path)) << path;
+    } else if (path == run.frame_log) {
+      const std::vector<std::string> lines = linesOf(slurp(path));
+      EXPECT_GE(lines.size(), 1u) << path;
+      EXPECT_LE(int(lines.size()), frames + 1) << path;
+      if (!lines.empty()) EXPECT_EQ(lines[0].rfind("frame,", 0), 0u) << path;
     } else {
       ADD_FAILURE() << "unexpected file " << path;
     }
@@ -225,6 +237,11 @@ TEST(KillTest, SigintAndSigtermStopCleanlyAndResumeMatchesAnUninterruptedRun) {
     ASSERT_EQ(waitFor(spawn(run.args(dataset, kLong, "--resume"))), 0);
     EXPECT_FALSE(fs::exists(run.checkpoint));
     EXPECT_EQ(slurp(run.trajectory), slurp(reference.trajectory));
+    // The frame log: the interrupted run's rows and the resumed run's, as the uninterrupted run
+    // wrote them (the steps across the checkpoint measured from the poses it kept).
+    const std::vector<std::string> log = linesOf(slurp(run.frame_log)), expected = linesOf(slurp(reference.frame_log));
+    ASSERT_EQ(log.size(), expected.size());
+    for (size_t i = 0; i < log.size(); ++i) EXPECT_EQ(log[i], expected[i]) << "row " << i << " (resumed at " << done << ")";
     EXPECT_EQ(readScene(run.scene).activeVoxelCount(), readScene(reference.scene).activeVoxelCount());
   }
 }

@@ -1,0 +1,133 @@
+#include "app/frame_log.h"
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include "fusion/lost_reason.h"
+
+namespace vf::app {
+
+std::string csvField(const std::string& text) {
+  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
+  std::string quoted = "\"";
+  for (char c : text) {
+    if (c == '"') quoted += '"';
+    quoted += c;
+  }
+  return quoted + "\"";
+}
+
+namespace {
+
+std::string number(const char* format, double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, format, value);
+  return text;
+}
+
+}  // namespace
+
+namespace {
+
+// The comma-separated fields of a row, quotes honoured.
+std::vector<std::string> splitRow(const std::string& row) {
+  std::vector<std::string> fields(1);
+  bool quoted = false;
+  for (size_t i = 0; i < row.size(); ++i) {
+    const char c = row[i];
+    if (c == '"' && quoted && i + 1 < row.size() && row[i + 1] == '"') {
+      fields.back() += '"';
+      ++i;
+    } else if (c == '"') {
+      quoted = !quoted;
+    } else if (c == ',' && !quoted) {
+      fields.emplace_back();
+    } else {
+      fields.back() += c;
+    }
+  }
+  return fields;
+}
+
+constexpr size_t kStatusField = 2, kStepField = 11;
+
+// A row whose frame has a pose of its own.
+bool tracked(const std::string& status) { return status == "tracked" || status == "map start"; }
+
+}  // namespace
+
+void FrameLog::keepRowsBefore(const std::string& csv_text, int first_frame, const Trajectory& done) {
+  size_t line_start = csv_text.find('\n');  // past the header
+  while (line_start != std::string::npos && line_start + 1 < csv_text.size()) {
+    const size_t begin = line_start + 1;
+    line_start = csv_text.find('\n', begin);
+    const std::string line = csv_text.substr(begin, line_start == std::string::npos ? std::string::npos : line_start - begin);
+    char* end = nullptr;
+    const long frame = std::strtol(line.c_str(), &end, 10);
+    if (end != line.c_str() && *end == ',' && frame < first_frame) rows_.push_back(line);
+  }
+  // Where the rows leave the steps: the last tracked frame's pose is the trajectory's last (a
+  // lost frame keeps it), and the step before it the trajectory's last two where that frame's
+  // step was one frame long; so the rows after the checkpoint read as the uninterrupted run's.
+  for (size_t i = rows_.size(); i-- > 0;) {
+    const std::vector<std::string> fields = splitRow(rows_[i]);
+    if (fields.size() <= kStepField || !tracked(fields[kStatusField]) || done.empty()) continue;
+    last_pose_ = done.back().T_world_cam;
+    has_last_pose_ = true;
+    last_index_ = std::stoi(fields[0]);
+    const bool last_row = i + 1 == rows_.size();
+    const bool one_frame_step = i > 0 && std::stoi(splitRow(rows_[i - 1])[0]) == last_index_ - 1 &&
+                                tracked(splitRow(rows_[i - 1])[kStatusField]);
+    has_last_step_ = last_row && !fields[kStepField].empty() && one_frame_step && done.size() >= 2;
+    if (has_last_step_) last_step_ = (done[done.size() - 2].T_world_cam.inverse() * last_pose_).translation();
+    break;
+  }
+}
+
+void FrameLog::add(const RgbdFrame& frame, const FrameResult& result) {
+  std::string row = std::to_string(frame.index) + "," + number("%.6f", frame.timestamp) + ",";
+  row += csvField(result.map_start ? "map start" : result.tracked ? "tracked" : lostReasonName(result.reason)) + ",";
+  row += std::string(result.integrated ? "1" : "0") + ",";
+  if (result.map_start) {  // placed, not matched against anything: no figures of a match
+    row += ",,,,,,,";
+  } else {
+    row += number("%.3f", result.icp_inlier_fraction) + "," + number("%.3f", result.icp_model_coverage) + ",";
+    row += number("%.2f", 1000.0 * result.icp_rmse_m) + ",";
+    row += std::to_string(result.degenerate_directions) + ",";
+    // 1 is "not measured" (FrameResult::weakest_direction_share): blank, not a share.
+    row += (result.weakest_direction_share < 1.f ? number("%.4f", result.weakest_direction_share) : "") + ",";
+    row += number("%.2f", 100.0 * result.jump_m) + "," + number("%.2f", result.jump_deg) + ",";
+  }
+  // A frame without a pose of its own (lost: the last good one is kept) has no step; the next
+  // tracked frame's step spans the frames lost.
+  if (result.tracked && has_last_pose_) {
+    const Pose step = last_pose_.inverse() * result.T_world_cam;
+    row += number("%.2f", 100.0 * step.translation().norm()) + ",";
+    row += number("%.2f", Eigen::AngleAxisd(step.linear()).angle() * 180.0 / M_PI) + ",";
+    // Against the step before, where both are one frame apart: a camera's pace changes by
+    // millimetres a frame, an alias or a slide by centimetres.
+    const bool follows = has_last_step_ && frame.index == last_index_ + 1;
+    row += (follows ? number("%.2f", 100.0 * (step.translation() - last_step_).norm()) : "") + ",";
+    last_step_ = step.translation();
+    has_last_step_ = frame.index == last_index_ + 1;
+  } else {
+    row += ",,,";
+    has_last_step_ = false;
+  }
+  if (result.tracked) last_pose_ = result.T_world_cam, has_last_pose_ = true, last_index_ = frame.index;
+  row += std::to_string(result.integrated ? result.bricks_fused : 0) + ",";
+  row += result.tracked ? "" : csvField(result.lost_reason);
+  rows_.push_back(std::move(row));
+}
+
+std::string FrameLog::csv() const {
+  std::string out =
+      "frame,timestamp,status,fused,matched,on_model,rmse_mm,free_directions,weakest_share,jump_cm,jump_deg,"
+      "step_cm,step_deg,step_change_cm,bricks,note\n";
+  for (const std::string& row : rows_) out += row + "\n";
+  return out;
+}
+
+}  // namespace vf::app
