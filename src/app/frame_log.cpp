@@ -27,10 +27,6 @@ std::string number(const char* format, double value) {
   return text;
 }
 
-}  // namespace
-
-namespace {
-
 // The comma-separated fields of a row, quotes honoured.
 std::vector<std::string> splitRow(const std::string& row) {
   std::vector<std::string> fields(1);
@@ -58,7 +54,7 @@ bool tracked(const std::string& status) { return status == "tracked" || status =
 
 }  // namespace
 
-void FrameLog::keepRowsBefore(const std::string& csv_text, int first_frame, const Trajectory& done) {
+void FrameLog::resume(const std::string& csv_text, int first_frame, const Trajectory& done) {
   size_t line_start = csv_text.find('\n');  // past the header
   while (line_start != std::string::npos && line_start + 1 < csv_text.size()) {
     const size_t begin = line_start + 1;

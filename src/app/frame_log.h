@@ -1,6 +1,6 @@
 #pragma once
-// `vdbfuse reconstruct --frame-log FILE.csv`: one row per frame the first pass tracked, with what
-// the tracker knew of it. The run's summary says how many frames were lost; this says where the
+// `vdbfuse reconstruct --frame-log FILE.csv`: one row per frame of the first pass, with what the
+// tracker knew of it. The run's summary says how many frames were lost; this says where the
 // tracking grew weak before that: the share of pixels that matched the model falling, the
 // residual rising, a direction of the view left free (a corridor along its length) and carried
 // by the motion prior, a step that jumped or reversed. A spreadsheet or three lines of pandas
@@ -38,9 +38,8 @@ class FrameLog {
  public:
   // A resumed run: the rows of `csv_text` (an earlier csv()) for frames before `first_frame`,
   // and the steps from there on measured from `done`, the poses of the frames before it.
-  void keepRowsBefore(const std::string& csv_text, int first_frame, const Trajectory& done);
+  void resume(const std::string& csv_text, int first_frame, const Trajectory& done);
   void add(const RgbdFrame& frame, const FrameResult& result);
-  bool empty() const { return rows_.empty(); }
   // The header line and one line per frame added.
   std::string csv() const;
 

@@ -121,8 +121,8 @@ void runReconstruct(const ReconstructOptions& o) {
   meta.source_options_json = bakeSourceJson(o, fusion);
   FrameLog frame_log;  // --frame-log: the first pass's frames (a resumed run's from before, too)
   if (o.resume && !o.frame_log.empty() && std::filesystem::exists(o.frame_log))
-    frame_log.keepRowsBefore(readRegularFile(o.frame_log, "frame log", kMaxTextFileBytes),
-                             run.pass() == 2 ? run.frameCount() : run.framesDone(), run.trajectory());
+    frame_log.resume(readRegularFile(o.frame_log, "frame log", kMaxTextFileBytes),
+                     run.pass() == 2 ? run.frameCount() : run.framesDone(), run.trajectory());
   // Trajectory and scene of the frames done (and the checkpoint), each written atomically. The
   // scene records gravity's up and the camera for its exports (vdb/scene_frame.h).
   struct Written {
