@@ -22,7 +22,8 @@
 #   is the sensor noise's; SIZES= leaves them out);
 #   REAL=0 leaves out the real samples; DATA=../shared/data where they are;
 #   RECONSTRUCT="..." adds options to every reconstruction;
-#   KEEP=dir keeps corridors, trajectories and logs there (a second run with the same KEEP
+#   KEEP=dir keeps corridors, trajectories and logs there, each run's per-frame tracking log too
+#   (runs/CASE/frames.csv, README "Reading a run's frame log"; a second run with the same KEEP
 #   reuses the corridors it generated), else a temp folder.
 # Time on two cores: about 1.5-2.5 min a 320x240 corridor, 2.5-3.5 min a 640x480 one, 1 min the real four.
 set -euo pipefail
@@ -57,7 +58,8 @@ judge() {  # judge NAME INPUT GROUNDTRUTH [reconstruct options]
   echo "=== $name: vdbfuse reconstruct $input $* ${EXTRA[*]:-}"
   local start=$SECONDS
   if ! "$VF" reconstruct "$input" -o "$run/scene.vdb" --trajectory "$run/trajectory.txt" \
-      --odometry "$run/odometry.txt" --report-json "$run/report.json" -q -f "$@" "${EXTRA[@]}" \
+      --odometry "$run/odometry.txt" --report-json "$run/report.json" --frame-log "$run/frames.csv" \
+      -q -f "$@" "${EXTRA[@]}" \
       >"$run/reconstruct.txt" 2>&1; then
     tail -n 20 "$run/reconstruct.txt"
     fail "vdbfuse reconstruct ($name) failed"
