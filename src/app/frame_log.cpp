@@ -50,7 +50,7 @@ std::vector<std::string> splitRow(const std::string& row) {
 constexpr size_t kStatusField = 2, kStepField = 11;
 
 // A row whose frame has a pose of its own.
-bool tracked(const std::string& status) { return status == "tracked" || status == "map start"; }
+bool tracked(const std::string& status) { return status == "tracked" || status == "map start" || status == "given pose"; }
 
 }  // namespace
 
@@ -84,9 +84,13 @@ void FrameLog::resume(const std::string& csv_text, int first_frame, const Trajec
 
 void FrameLog::add(const RgbdFrame& frame, const FrameResult& result) {
   std::string row = std::to_string(frame.index) + "," + number("%.6f", frame.timestamp) + ",";
-  row += csvField(result.map_start ? "map start" : result.tracked ? "tracked" : lostReasonName(result.reason)) + ",";
+  const char* status = result.map_start    ? "map start"
+                       : result.pose_given ? "given pose"
+                       : result.tracked    ? "tracked"
+                                           : lostReasonName(result.reason);
+  row += csvField(status) + ",";
   row += std::string(result.integrated ? "1" : "0") + ",";
-  if (result.map_start) {  // placed, not matched against anything: no figures of a match
+  if (result.map_start || result.pose_given) {  // placed, not matched against anything: no figures of a match
     row += ",,,,,,,";
   } else {
     row += number("%.3f", result.icp_inlier_fraction) + "," + number("%.3f", result.icp_model_coverage) + ",";

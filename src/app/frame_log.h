@@ -9,8 +9,9 @@
 // Columns (README "Reading a run's frame log"):
 //   frame, timestamp        the frame's index in the sequence and its time (s)
 //   status                  tracked; map start (the run's first frame, or a new map's after a
-//                           loss: placed, not matched, so the next seven columns are blank); or
-//                           why it got no pose (fusion/lost_reason.h)
+//                           loss: placed, not matched, so the next seven columns are blank);
+//                           given pose (--poses given: fused where the recording put it, the
+//                           same seven blank); or why it got no pose (fusion/lost_reason.h)
 //   fused                   1 when its depth went into the scene
 //   matched                 share of the measured pixels that found a model partner
 //   on_model                share of the measured pixels that land on the model's surface

@@ -29,6 +29,7 @@ enum class PoseSource {
 struct FrameResult {
   bool tracked = true;      // false: pose rejected, last good pose kept, frame not integrated
   bool map_start = false;   // the first frame of a map: placed (at the origin, a given pose, or where the walk led), not tracked
+  bool pose_given = false;  // fused at its recorded pose (--poses given): nothing was matched
   LostReason reason = LostReason::None;
   bool integrated = false;
   bool volume_full = false; // memory ran out: some of this frame's bricks could not be allocated

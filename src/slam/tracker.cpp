@@ -128,6 +128,7 @@ Tracker::Step Tracker::withGivenPose(const RgbdFrame& frame) {
   }
   Step step;
   pipeline_.commit(T, true, step.result);
+  step.result.pose_given = true;
   state_ = State::Tracking;
   return step;
 }

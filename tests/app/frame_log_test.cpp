@@ -119,6 +119,23 @@ TEST(FrameLog, AResumedRunReadsAsTheUninterruptedOne) {
   EXPECT_EQ(fields(lines(resumed.csv())[4])[13], "0.50");  // frame 3's step against frame 2's
 }
 
+TEST(FrameLog, GivenPosesAreNotMatchFigures) {
+  FrameLog log;
+  for (int i = 0; i < 3; ++i) {
+    FrameResult given = trackedAt(0.02 * i);
+    given.pose_given = true;
+    given.icp_inlier_fraction = given.icp_model_coverage = given.icp_rmse_m = 0.f;  // nothing was matched
+    log.add(frameAt(i), given);
+  }
+  const std::vector<std::string> rows = lines(log.csv());
+  ASSERT_EQ(rows.size(), 4u);
+  const std::vector<std::string> last = fields(rows[3]);
+  EXPECT_EQ(last[2], "given pose");
+  for (int f = 4; f <= 10; ++f) EXPECT_EQ(last[size_t(f)], "") << "column " << f;
+  EXPECT_EQ(last[11], "2.00");  // the recorded poses still step
+  EXPECT_EQ(last[13], "0.00");
+}
+
 TEST(FrameLog, CsvFieldsQuoteOnlyWhatNeedsIt) {
   EXPECT_EQ(csvField("tracked"), "tracked");
   EXPECT_EQ(csvField("a, b"), "\"a, b\"");
