@@ -62,7 +62,7 @@ void FrameLog::resume(const std::string& csv_text, int first_frame, const Trajec
     const std::string line = csv_text.substr(begin, line_start == std::string::npos ? std::string::npos : line_start - begin);
     char* end = nullptr;
     const long frame = std::strtol(line.c_str(), &end, 10);
-    if (end != line.c_str() && *end == ',' && frame < first_frame) rows_.push_back(line);
+    if (end != line.c_str() && *end == ',' && frame >= 0 && frame < first_frame) rows_.push_back(line);
   }
   // Where the rows leave the steps: the last tracked frame's pose is the trajectory's last (a
   // lost frame keeps it), and the step before it the trajectory's last two where that frame's

@@ -113,7 +113,8 @@ TEST(FrameLog, AResumedRunReadsAsTheUninterruptedOne) {
   FrameLog interrupted;
   for (int i = 0; i < 3; ++i) interrupted.add(frameAt(i), trackedAt(z[i]));
   FrameLog resumed;
-  resumed.resume(interrupted.csv() + "5,junk past the checkpoint\n", 3, done);
+  // Rows past the checkpoint, or not rows at all (a file edited by hand), are not kept.
+  resumed.resume(interrupted.csv() + "5,junk past the checkpoint\n-99999999999,x\nnot a row\n", 3, done);
   for (int i = 3; i < 6; ++i) resumed.add(frameAt(i), trackedAt(z[i]));
   EXPECT_EQ(resumed.csv(), uninterrupted.csv());
   EXPECT_EQ(fields(lines(resumed.csv())[4])[13], "0.50");  // frame 3's step against frame 2's
