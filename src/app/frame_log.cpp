@@ -3,8 +3,9 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
+#include <sstream>
 
+#include "core/text_fields.h"
 #include "fusion/lost_reason.h"
 
 namespace vf::app {
@@ -55,28 +56,32 @@ bool tracked(const std::string& status) { return status == "tracked" || status =
 }  // namespace
 
 void FrameLog::resume(const std::string& csv_text, int first_frame, const Trajectory& done) {
-  size_t line_start = csv_text.find('\n');  // past the header
-  while (line_start != std::string::npos && line_start + 1 < csv_text.size()) {
-    const size_t begin = line_start + 1;
-    line_start = csv_text.find('\n', begin);
-    const std::string line = csv_text.substr(begin, line_start == std::string::npos ? std::string::npos : line_start - begin);
-    char* end = nullptr;
-    const long frame = std::strtol(line.c_str(), &end, 10);
-    if (end != line.c_str() && *end == ',' && frame >= 0 && frame < first_frame) rows_.push_back(line);
+  struct Kept {
+    int frame;
+    bool tracked, has_step;
+  };
+  std::vector<Kept> kept;
+  std::istringstream lines(csv_text);
+  std::string line;
+  std::getline(lines, line);  // the header
+  while (std::getline(lines, line)) {
+    const std::vector<std::string> fields = splitRow(line);
+    int frame = 0;
+    if (!parseInt(fields[0], frame) || frame < 0 || frame >= first_frame) continue;
+    const bool full = fields.size() > kStepField;
+    kept.push_back({frame, full && tracked(fields[kStatusField]), full && !fields[kStepField].empty()});
+    rows_.push_back(line);
   }
   // Where the rows leave the steps: the last tracked frame's pose is the trajectory's last (a
   // lost frame keeps it), and the step before it the trajectory's last two where that frame's
   // step was one frame long; so the rows after the checkpoint read as the uninterrupted run's.
-  for (size_t i = rows_.size(); i-- > 0;) {
-    const std::vector<std::string> fields = splitRow(rows_[i]);
-    if (fields.size() <= kStepField || !tracked(fields[kStatusField]) || done.empty()) continue;
+  for (size_t i = kept.size(); i-- > 0;) {
+    if (!kept[i].tracked || done.empty()) continue;
     last_pose_ = done.back().T_world_cam;
     has_last_pose_ = true;
-    last_index_ = std::stoi(fields[0]);
-    const bool last_row = i + 1 == rows_.size();
-    const bool one_frame_step = i > 0 && std::stoi(splitRow(rows_[i - 1])[0]) == last_index_ - 1 &&
-                                tracked(splitRow(rows_[i - 1])[kStatusField]);
-    has_last_step_ = last_row && !fields[kStepField].empty() && one_frame_step && done.size() >= 2;
+    last_index_ = kept[i].frame;
+    const bool one_frame_step = i > 0 && kept[i - 1].tracked && kept[i - 1].frame == last_index_ - 1;
+    has_last_step_ = i + 1 == kept.size() && kept[i].has_step && one_frame_step && done.size() >= 2;
     if (has_last_step_) last_step_ = (done[done.size() - 2].T_world_cam.inverse() * last_pose_).translation();
     break;
   }
