@@ -129,9 +129,8 @@ struct Outcome {
 };
 
 Outcome reconstruct(const std::string& dataset, const std::string& dir, const std::vector<std::string>& extra = {}) {
-  std::vector<std::string> args{"reconstruct", dataset, "-o", dir + "/scene.vdb", "-q"};
-  args.insert(args.end(), extra.begin(), extra.end());
-  const test::CliRun fused = test::runVdbfuse(args, 0, 1800);
+  const test::CliRun fused =
+      test::runVdbfuse(test::withArgs({"reconstruct", dataset, "-o", dir + "/scene.vdb", "-q"}, extra), 0, 1800);
   EXPECT_EQ(fused.status, 0) << fused.output;
   const test::CliRun evaluated =
       test::runVdbfuse({"evaluate", "--trajectory", dir + "/scene.txt", "--groundtruth", dataset});

@@ -51,11 +51,7 @@ TEST(ReconstructReport, FrameLogHasARowPerFrame) {
   const std::string dir = test::tempDir("report_frame_log");
   const std::vector<std::string> base = {"reconstruct", test::dataPath("tum_fr3_teddy_head60"), "-o",
                                          dir + "/scene.vdb", "-q", "--max-frames", "12", "--voxel-size-m", "0.02"};
-  auto with = [&](std::vector<std::string> extra) {
-    std::vector<std::string> args = base;
-    args.insert(args.end(), extra.begin(), extra.end());
-    return runVdbfuse(args);
-  };
+  auto with = [&](const std::vector<std::string>& extra) { return runVdbfuse(test::withArgs(base, extra)); };
   const test::CliRun run = with({"--frame-log", dir + "/frames.csv"});
   ASSERT_EQ(run.status, 0) << run.output;
   std::istringstream log(test::fileContent(dir + "/frames.csv"));

@@ -58,6 +58,12 @@ struct CliRun {
 
 inline int statusOf(int raw) { return WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw); }
 
+// A test's common arguments followed by one case's own.
+inline std::vector<std::string> withArgs(std::vector<std::string> base, const std::vector<std::string>& extra) {
+  base.insert(base.end(), extra.begin(), extra.end());
+  return base;
+}
+
 // Runs vdbfuse to the end; a run longer than timeout_s is killed (status 128 + SIGKILL).
 inline CliRun runVdbfuse(const std::vector<std::string>& args, uint64_t file_size_limit = 0, double timeout_s = 300) {
   int fds[2];

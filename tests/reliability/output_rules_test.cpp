@@ -169,10 +169,8 @@ TEST_F(OutputRulesTest, InvalidValuesAreRefusedNotReplaced) {
       {{"--fuse-depth", "smoothed"}, "--fuse-depth smoothed: expected filtered or raw"},
   };
   for (const auto& [extra, option] : cases) {
-    std::vector<std::string> args = base;
-    args.insert(args.end(), extra.begin(), extra.end());
     SCOPED_TRACE(extra[0] + " " + extra[1]);
-    const test::CliRun run = runVdbfuse(args, 0, 120);
+    const test::CliRun run = runVdbfuse(test::withArgs(base, extra), 0, 120);
     EXPECT_NE(run.status, 0) << run.output;
     EXPECT_LT(run.status, 100 + 28) << "killed or timed out: " << run.output;  // CLI11 uses 100+ for parse errors
     EXPECT_NE(run.output.find(option), std::string::npos) << run.output;

@@ -59,11 +59,7 @@ TEST(ReportJson, IsAnOutputLikeTheOthers) {
   const std::string dir = test::tempDir("report_json_rules");
   const std::vector<std::string> base = {"reconstruct", dataset, "-o", dir + "/s.vdb", "--max-frames", "2",
                                          "--voxel-size-m", "0.02", "--device", "cpu", "-q"};
-  auto with = [&](std::vector<std::string> extra) {
-    std::vector<std::string> args = base;
-    args.insert(args.end(), extra.begin(), extra.end());
-    return runVdbfuse(args);
-  };
+  auto with = [&](const std::vector<std::string>& extra) { return runVdbfuse(test::withArgs(base, extra)); };
   const test::CliRun misnamed = with({"--report-json", dir + "/r.txt"});
   EXPECT_EQ(misnamed.status, 1) << misnamed.output;
   EXPECT_NE(misnamed.output.find("--report-json"), std::string::npos) << misnamed.output;
