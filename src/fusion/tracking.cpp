@@ -422,6 +422,7 @@ FrameResult Pipeline::judgeTracking(const IcpSolution& solution, const Pose& gue
   result.jump_m = float(jump.translation().norm());
   result.jump_deg = float(rotationDeg(jump));
   const float intervals = float(check.limit_intervals);  // the one-frame limits, that many times over
+  const char* over = intervals > 1.f ? "the frames dropped" : "one frame";
   const float min_fraction = check.relocalising ? p.relocalise_min_inlier_fraction : p.min_inlier_fraction;
   const float max_rmse = check.relocalising ? p.relocalise_max_rmse_m : p.max_rmse_m;
   char why[160] = "";
@@ -446,10 +447,10 @@ FrameResult Pipeline::judgeTracking(const IcpSolution& solution, const Pose& gue
     std::snprintf(why, sizeof(why), "residual %.1f mm above %.1f mm", 1e3f * result.icp_rmse_m, 1e3f * max_rmse);
   } else if (!check.relocalising && motion.translation().norm() > p.max_translation_m * intervals) {
     reject(LostReason::TooFast);
-    std::snprintf(why, sizeof(why), "moved %.2f m in %s", motion.translation().norm(), intervals > 1.f ? "the frames dropped" : "one frame");
+    std::snprintf(why, sizeof(why), "moved %.2f m in %s", motion.translation().norm(), over);
   } else if (!check.relocalising && rotationDeg(motion) > p.max_rotation_deg * intervals) {
     reject(LostReason::TooFast);
-    std::snprintf(why, sizeof(why), "turned %.1f deg in %s", rotationDeg(motion), intervals > 1.f ? "the frames dropped" : "one frame");
+    std::snprintf(why, sizeof(why), "turned %.1f deg in %s", rotationDeg(motion), over);
   } else if (!check.relocalising && (result.jump_m > p.max_jump_m * intervals || result.jump_deg > p.max_jump_deg * intervals)) {
     reject(LostReason::Jump);
     std::snprintf(why, sizeof(why), "jumped %.1f cm and %.1f deg away from the predicted pose", 100.f * result.jump_m,
