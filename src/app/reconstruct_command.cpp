@@ -157,7 +157,7 @@ void runReconstruct(const ReconstructOptions& o) {
   callbacks.on_frame = [&](const RgbdFrame& frame, const FrameResult& result) {
     if (result.integrated) bricks_per_frame.push_back(result.bricks_fused);
     if (run.pass() == 1) {
-      frame_log.add(frame, result);
+      if (!o.frame_log.empty()) frame_log.add(frame, result);
       renders.add(run.framesDone() - 1, frame, run.pipeline());
       if (result.integrated) depth_range.add(frame.depth);
     }

@@ -69,7 +69,7 @@ void addReconstructOptions(CLI::App& cmd, ReconstructOptions& o) {
                  "Write the run's figures as JSON once it finished: frames, tracked, fused, lost (by reason), "
                  "seconds, peak_mib, bricks, active_voxels, device");
   cmd.add_option("--frame-log", o.frame_log,
-                 "Write a CSV row per frame the first pass tracked: how well it matched the model, the directions "
+                 "Write a CSV row per frame of the first pass: how well it matched the model, the directions "
                  "its view left free, how far it moved, and why a lost frame was lost (README \"Reading a run's "
                  "frame log\")");
   cmd.add_flag("--resume", o.resume, "Continue an interrupted run from OUTPUT.checkpoint (same dataset and options)");
