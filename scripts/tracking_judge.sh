@@ -10,7 +10,7 @@
 # 2026-12-06, against the points' mean held before, on walk 0: 640x480 5.9 -> 1.5 cm, 320x240
 # 7.5 -> 84; on walk 1: 77.5 -> 3.2 and 96.5 -> 24.5): the table shows all of them at once.
 # Per case: frames tracked and lost, loops found and holding, ATE of the written (loop-closed)
-# trajectory and of the first pass (the trajectory of --loop-closure off), and the wall time;
+# trajectory and of the first pass (--odometry: tracking before the loops moved it), and the wall time;
 # then per size the corridors' median and worst ATE and how many are within 5 cm (issue 36's
 # target). One corridor run is a draw: a last-bit change in code generation grows along the
 # corridor's weakly measured directions into a different run (walk 0 at 640x480 gave 1.5 or 33.8

@@ -123,6 +123,7 @@ void FrameLog::add(const RgbdFrame& frame, const FrameResult& result) {
   }
   if (result.tracked) last_pose_ = result.T_world_cam, has_last_pose_ = true, last_index_ = frame.index;
   row += std::to_string(result.integrated ? result.bricks_fused : 0) + ",";
+  row += std::to_string(result.integrated ? result.bricks_restarted : 0) + ",";
   row += result.tracked ? "" : csvField(result.lost_reason);
   rows_.push_back(std::move(row));
 }
@@ -130,7 +131,7 @@ void FrameLog::add(const RgbdFrame& frame, const FrameResult& result) {
 std::string FrameLog::csv() const {
   std::string out =
       "frame,timestamp,status,fused,matched,on_model,rmse_mm,free_directions,weakest_share,jump_cm,jump_deg,"
-      "step_cm,step_deg,step_change_cm,bricks,note\n";
+      "step_cm,step_deg,step_change_cm,bricks,restarted,note\n";
   for (const std::string& row : rows_) out += row + "\n";
   return out;
 }

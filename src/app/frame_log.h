@@ -24,6 +24,9 @@
 //                           millimetres for a real camera, centimetres where the solve followed
 //                           an alias of the texture or slid
 //   bricks                  bricks the fused depth reached
+//   restarted               of those, bricks no frame of the tracking model's window had seen
+//                           (the camera came back to them): cleared before this frame fused,
+//                           so that their old, drifted copy does not pull the tracker
 //   note                    the tracker's words for a frame it did not track (CSV-quoted)
 // A resumed run keeps the interrupted run's rows for the frames before its checkpoint.
 #include <string>

@@ -230,7 +230,8 @@ void runReconstruct(const ReconstructOptions& o) {
   if (first_pass_timer) {
     std::printf("\nfirst pass (tracking and fusion):");
     printTimingTable(*first_pass_timer, first_pass_frames - first, first_pass_s, {}, stage_table);
-    std::printf("\nsecond pass (fusion at the optimised poses):");
+    std::printf(run.globalReport().moved() ? "\nsecond pass (fusion at the optimised poses):"
+                                           : "\nsecond pass (fusion at the same poses):");
     printTimingTable(run.pipeline().timer(), run.frameCount(), wall_s - first_pass_s, std::move(bricks_per_frame),
                      stage_table);
   } else {
@@ -253,6 +254,8 @@ void runReconstruct(const ReconstructOptions& o) {
     figures.relocalisations = run.tracker().relocalisations();
     figures.maps = run.tracker().maps();
     figures.prior_held_frames = priorHeldFrames(run.tracker().priorHeldStretches());
+    figures.passes = run.pass();
+    figures.bricks_restarted = run.globalReport().bricks_restarted;
     figures.resumed_after_frame = first;
     figures.lost = run.lostFrames();
     figures.seconds = wall_s;

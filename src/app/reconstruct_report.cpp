@@ -89,18 +89,28 @@ void printLoopClosure(const slam::GlobalReport& r, bool enabled) {
       std::printf(", %d joined to the older maps by loops, %d placed only where the camera's walk led", r.maps_joined,
                   r.maps - 1 - r.maps_joined);
   }
-  if (r.moved())
+  if (r.moved()) {
     std::printf("; frames moved up to %.2f cm (median %.2f cm), fused again at the optimised poses\n",
                 100.0 * r.largest_correction_m, 100.0 * r.median_correction_m);
-  else if (r.maps > 1)
+    return;
+  }
+  if (r.maps > 1) {
     std::printf("; every map fused again into one scene\n");
-  else if (r.loops_accepted > 0 && r.largest_correction_m > 0)
-    std::printf("; they move no frame's view by more than %.2f cm: the first pass's poses and scene stand\n",
-                100.0 * r.largest_correction_m);
+    return;
+  }
+  const char* stand = r.bricks_restarted > 0 ? "stand" : "and scene stand";
+  if (r.loops_accepted > 0 && r.largest_correction_m > 0)
+    std::printf("; they move no frame's view by more than %.2f cm: the first pass's poses %s", 100.0 * r.largest_correction_m,
+                stand);
   else if (r.loops_accepted > 0)
-    std::printf("; they agree with the first pass's poses within their noise: its poses and scene stand\n");
+    std::printf("; they agree with the first pass's poses within their noise: its poses %s", stand);
   else
-    std::printf("; the first pass's poses and scene stand\n");
+    std::printf("; the first pass's poses %s", stand);
+  if (r.bricks_restarted > 0)
+    std::printf(", and every frame is fused again at them: tracking restarted %lld bricks where the camera came back "
+                "after its model's window, and the scene keeps every visit",
+                static_cast<long long>(r.bricks_restarted));
+  std::printf("\n");
 }
 
 void printLabelSummary(const LabelStats& stats, const ClassTable& classes, int frames) {
@@ -177,11 +187,12 @@ std::string runFiguresJson(const RunFigures& f) {
   char numbers[512];
   std::snprintf(numbers, sizeof numbers,
                 "\"frames\": %d, \"tracked\": %d, \"fused\": %d, \"lost\": %zu, \"relocalisations\": %d, \"maps\": %d, "
-                "\"prior_held_frames\": %d, "
+                "\"prior_held_frames\": %d, \"passes\": %d, \"bricks_restarted\": %lld, "
                 "\"resumed_after_frame\": %d, \"seconds\": %.3f, \"peak_mib\": %.1f, \"bricks\": %d, "
                 "\"active_voxels\": %zu",
                 f.frames, f.frames - int(f.lost.size()), f.fused, f.lost.size(), f.relocalisations, f.maps,
-                f.prior_held_frames, f.resumed_after_frame, f.seconds, peakResidentMiB(), f.bricks, f.active_voxels);
+                f.prior_held_frames, f.passes, static_cast<long long>(f.bricks_restarted), f.resumed_after_frame,
+                f.seconds, peakResidentMiB(), f.bricks, f.active_voxels);
   return std::string("{") + numbers + ", \"device\": " + jsonString(f.device) + ", \"lost_by_reason\": {" + reasons +
          "}}\n";
 }

@@ -42,6 +42,8 @@ struct RunFigures {
   int frames = 0, fused = 0, relocalisations = 0;
   int maps = 1;  // the tracker's maps: one more after each loss it could not recover (slam/tracker.h)
   int prior_held_frames = 0;    // priorHeldFrames
+  int passes = 1;               // 2 where every frame was fused again (slam/reconstruction.h)
+  int64_t bricks_restarted = 0; // slam::GlobalReport::bricks_restarted
   int resumed_after_frame = 0;  // frames a --resume found done; 0 for a run from the start
   std::vector<LostFrame> lost;
   double seconds = 0;  // this process's frame loop (the part after the checkpoint on --resume)
@@ -50,7 +52,8 @@ struct RunFigures {
   std::string device;
 };
 // One JSON object: frames, tracked, fused, lost, lost_by_reason, relocalisations, maps, prior_held_frames,
-// resumed_after_frame, seconds, peak_mib (this process), bricks, active_voxels, device.
+// passes, bricks_restarted, resumed_after_frame, seconds, peak_mib (this process), bricks, active_voxels,
+// device.
 std::string runFiguresJson(const RunFigures& figures);
 
 }  // namespace vf::app

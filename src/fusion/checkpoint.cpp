@@ -27,8 +27,9 @@ constexpr char kMagic[16] = {'V', 'D', 'B', 'F', 'U', 'S', 'E', '-', 'C', 'K', '
 // 7: the tracker's maps (a new one after a loss the old one could not recover), per keyframe.
 // 8: the tracker's last second of good poses (slam/recent_motion.h), not only its last step.
 // 9: the tracker's last good pose and time no longer stored beside that second (its last sample).
+// 10: the count of bricks the first pass restarted (PipelineState::bricks_restarted).
 // A new version also needs the fuzz seeds rewritten (tests/fuzz/make_seeds.py; resume_test checks).
-constexpr uint32_t kVersion = 9;
+constexpr uint32_t kVersion = 10;
 
 uint64_t fnv1a(const uint8_t* p, size_t n, uint64_t h = 1469598103934665603ull) {
   for (size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
@@ -229,6 +230,7 @@ void writeCheckpoint(const std::string& path, Pipeline& pipeline, const RunProgr
   w.bytes(progress.session.data(), progress.session.size());
   w.pod<uint8_t>(s.last_frame_committed ? 1 : 0);
   w.pose(s.last_motion);
+  w.pod<int64_t>(s.bricks_restarted);
 
   const size_t n = bricks.brick_count, voxels = n * kBrickVoxels;
   w.pod<uint32_t>(uint32_t(n));
@@ -339,6 +341,8 @@ RunProgress readCheckpoint(const std::string& path, Pipeline& pipeline, const Ru
   progress.session.assign(session, session + session_bytes);
   s.last_frame_committed = r.read<uint8_t>("last frame flag") != 0;
   s.last_motion = readPose(r);
+  s.bricks_restarted = r.read<int64_t>("restarted brick count");
+  if (s.bricks_restarted < 0) r.fail("restarted brick count " + std::to_string(s.bricks_restarted) + " is negative");
   if (progress.frames_done < 0 || progress.frames_done != s.frames_processed)
     throw Error("checkpoint " + path + ": frame counts and trajectory disagree");
   requireSaneProgress(s, progress, path);

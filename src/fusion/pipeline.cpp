@@ -128,7 +128,7 @@ void Pipeline::measure(const RgbdFrame& frame) {
   }
 }
 
-bool Pipeline::integrate(int& bricks_fused) {
+void Pipeline::integrate(FrameResult& result) {
   ScopedStage stage(timer_, "integrate", device_);
   Buffers& b = *buffers_;
   const uint32_t stamp = uint32_t(state_.frames_processed + 1);
@@ -149,14 +149,18 @@ bool Pipeline::integrate(int& bricks_fused) {
     mark.min_depth_m = m.min_depth_m;
     mark.max_depth_m = m.max_depth_m;
     mark.stamp = stamp;
+    mark.restart_before = restartBefore(stamp);
+    mark.restarted = volume.restartedCount();
     mark.frame_entries = volume.frameEntries();
     mark.frame_count = volume.frameCount();
     mark.overflow = volume.overflowFlag();
     mark.tile_px = device_ == Device::Cuda ? 1 : 16;
     parallelFor(device_, mark.itemCount(), mark);
   } while (volume.growIfOverflowed());
+  result.bricks_restarted = volume.frameRestarted();
+  state_.bricks_restarted += result.bricks_restarted;
   const int touched = volume.assignSlots();
-  bricks_fused = touched;
+  result.bricks_fused = touched;
 
   IntegrateKernel kernel;
   kernel.volume = volume.view();
@@ -181,7 +185,17 @@ bool Pipeline::integrate(int& bricks_fused) {
   kernel.vote_seed = params_.integration.class_vote_seed;
   kernel.stamp = stamp;
   parallelFor(device_, touched * IntegrateKernel::kRowsPerBrick, kernel);
-  return !volume.poolFull();
+  result.volume_full = volume.poolFull();
+  result.integrated = true;
+}
+
+// The bricks the window of this frame's tracking model did not hold (raycastForTracking: stamps
+// from newest - window + 1 on, the newest being the frame before), when they are to restart.
+uint32_t Pipeline::restartBefore(uint32_t stamp) const {
+  const IcpParams& icp = params_.icp;
+  if (!icp.restart_stale_bricks || icp.model_window_frames <= 0) return 0;
+  const uint32_t window = uint32_t(icp.model_window_frames);
+  return stamp > window ? stamp - window : 0u;
 }
 
 ImageView<const float> Pipeline::fusedDepth() const {
@@ -292,10 +306,7 @@ void Pipeline::commit(const Pose& T_world_cam, bool fuse, FrameResult& result) {
   s.last_frame_committed = true;
   s.T_world_cam = T_world_cam;
   result.T_world_cam = T_world_cam;
-  if (fuse) {
-    result.volume_full = !integrate(result.bricks_fused);
-    result.integrated = true;
-  }
+  if (fuse) integrate(result);
   {
     ScopedStage stage(timer_, "raycast", device_);
     raycastForTracking(T_world_cam, result.integrated);
@@ -309,8 +320,7 @@ void Pipeline::fuseAt(const Pose& T_world_cam, FrameResult& result) {
   s.last_frame_committed = false;
   s.has_prediction = false;
   result.T_world_cam = T_world_cam;
-  result.volume_full = !integrate(result.bricks_fused);
-  result.integrated = true;
+  integrate(result);
   ++s.frames_processed;
 }
 

@@ -34,6 +34,7 @@ struct FrameResult {
   bool integrated = false;
   bool volume_full = false; // memory ran out: some of this frame's bricks could not be allocated
   int bricks_fused = 0;     // bricks the frame's depth reached (integrate and raycast cost follows it)
+  int bricks_restarted = 0; // of those, bricks it came back to and restarted (IcpParams::restart_stale_bricks)
   Pose T_world_cam = Pose::Identity();
   int icp_inliers = 0;
   float icp_inlier_fraction = 0.f;
@@ -91,6 +92,9 @@ struct PipelineState {
   // constant-velocity prediction; identity after a lost frame.
   Pose last_motion = Pose::Identity();
   bool last_frame_committed = false;  // the previous frame ended with a pose (commit, not skip)
+  // Bricks fused frames restarted (IcpParams::restart_stale_bricks): the volume no longer holds
+  // every observation of them.
+  int64_t bricks_restarted = 0;
 };
 
 class Pipeline {
@@ -177,8 +181,10 @@ class Pipeline {
   // How the measured points move under a camera-frame pose increment (fusion/tracking.cpp).
   Eigen::Matrix<double, 6, 6> measuredPointMetric() const;
   FrameResult judgeTracking(const IcpSolution& solution, const Pose& guess, const TrackingCheck& check) const;
-  // False when the pool was full for some of the frame's bricks; bricks_fused: how many it reached.
-  bool integrate(int& bricks_fused);
+  // Fuses the frame into the volume at state_.T_world_cam and fills the result's bricks_fused,
+  // bricks_restarted and volume_full (some of its bricks found no slot: the pool was full).
+  void integrate(FrameResult& result);
+  uint32_t restartBefore(uint32_t stamp) const;  // MarkBricksKernel::restart_before
   // The depth integration marks and fuses: filtered or raw (IntegrationParams::
   // integrate_filtered_depth), with the dynamic pixels of a labelled frame kept for the vote.
   ImageView<const float> fusedDepth() const;

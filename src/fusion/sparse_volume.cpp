@@ -258,26 +258,35 @@ void SparseVolume::rehash(const uint32_t* slot_stamps) {
 }
 
 void SparseVolume::beginFrame(uint32_t stamp) {
+  restarted_ = 0;
+  startMarking(stamp);
+}
+
+void SparseVolume::startMarking(uint32_t stamp) {
   marking_stamp_ = stamp;
   // Load factor at most 0.4 before the frame leaves room for its new bricks (linear probing stays
   // short); a frame that still overflows makes growIfOverflowed() rehash and mark again.
   if (uint64_t(brick_count_) * 5 > uint64_t(hash_capacity_) * 2) rehash();
-  static_assert(kFrameCount == 0 && kOverflow == 1 && kNewBricks == 2, "reset together");
-  const int zeros[3] = {0, 0, 0};
-  setCounters(kFrameCount, 3, zeros);
+  static_assert(kFrameCount == 0 && kOverflow == 1 && kRestarted == 2 && kNewBricks == 3, "reset together");
+  const int zeros[4] = {0, 0, 0, 0};
+  setCounters(kFrameCount, 4, zeros);
   marked_ = -1;
   pool_full_ = false;
 }
 
 bool SparseVolume::growIfOverflowed() {
-  int marked_and_overflow[2];
-  readCounters(kFrameCount, 2, marked_and_overflow);
-  if (marked_and_overflow[1] == 0) {
-    marked_ = marked_and_overflow[0];  // assignSlots() needs no second wait for it
+  static_assert(kFrameCount == 0 && kOverflow == 1 && kRestarted == 2, "read together");
+  int marked_overflow_restarted[3];
+  readCounters(kFrameCount, 3, marked_overflow_restarted);
+  restarted_ += marked_overflow_restarted[2];
+  if (marked_overflow_restarted[1] == 0) {
+    marked_ = marked_overflow_restarted[0];  // assignSlots() needs no second wait for it
     return false;
   }
-  rehash();  // forgets this frame's partial list and stamps: marking runs again from scratch
-  beginFrame(marking_stamp_);
+  // Forgets this frame's partial list and stamps: marking runs again from scratch. The bricks the
+  // first run restarted stay counted (restarted_): their old stamps are gone with the old list.
+  rehash();
+  startMarking(marking_stamp_);
   return true;
 }
 

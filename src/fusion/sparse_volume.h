@@ -52,8 +52,12 @@ class SparseVolume {
   int* frameSlots() const { return frame_slots_.data(); }
   int* frameCount() const { return counters_.data() + kFrameCount; }
   int* overflowFlag() const { return counters_.data() + kOverflow; }
+  int* restartedCount() const { return counters_.data() + kRestarted; }  // MarkBricksKernel::restarted
   // 2. after marking: true when the hash overflowed; it has then grown, and marking must run again.
   bool growIfOverflowed();
+  // After marking (growIfOverflowed() false): the bricks the frame's marking restarted, those of
+  // a marking that overflowed and ran again included.
+  int frameRestarted() const { return restarted_; }
   // 3. gives the frame's new bricks slots (growing the pool where it can); returns the number of
   //    bricks the frame touched. poolFull() tells whether some of them found no slot this frame.
   int assignSlots();
@@ -76,10 +80,12 @@ class SparseVolume {
 
  private:
   // Device-side counters. Each host read of one is a wait for the GPU, so those read or reset
-  // together lie together: a frame resets the first three at once, reads the first two at once.
-  enum Counter { kFrameCount = 0, kOverflow, kNewBricks, kSlotCount, kPoolFull, kCounters };
+  // together lie together: a frame resets the first four at once, reads the first three at once.
+  enum Counter { kFrameCount = 0, kOverflow, kRestarted, kNewBricks, kSlotCount, kPoolFull, kCounters };
   struct Pool;
   void allocateHash(uint32_t capacity);
+  // beginFrame() but for the count of restarted bricks (a marking run again keeps it).
+  void startMarking(uint32_t stamp);
   // Into a table twice the size (or more, until the bricks fit); each brick keeps its last
   // marking stamp, or takes it from `slot_stamps` (device memory, one per slot) when given.
   void rehash(const uint32_t* slot_stamps = nullptr);
@@ -102,6 +108,7 @@ class SparseVolume {
   uint32_t hash_capacity_ = 0;
   uint32_t marking_stamp_ = 0;  // the frame beginFrame() was last given
   int marked_ = -1;             // the frame's marked bricks, read with the overflow flag; -1: not yet read
+  int restarted_ = 0;           // the frame's restarted bricks (frameRestarted())
   Buffer<BrickEntry> entries_;
   Buffer<int> frame_entries_;
   Buffer<int> frame_slots_;

@@ -41,6 +41,9 @@ struct GlobalReport {
   bool moved_enough = false;  // the frames were moved (and are fused again)
   int maps = 1;               // the tracker's maps (slam/tracker.h: a new one after a long loss)
   int maps_joined = 0;        // later maps placed on the older ones by loops
+  // Bricks the first pass restarted where it came back (fusion/params.h restart_stale_bricks):
+  // when > 0 every frame is fused again, moved or not.
+  int64_t bricks_restarted = 0;
   bool moved() const { return moved_enough; }
 };
 

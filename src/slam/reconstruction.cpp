@@ -52,8 +52,12 @@ Reconstruction::Reconstruction(const FrameSource& source, const ReconstructionOp
     throw Error("ReconstructionOptions.max_frames = " + std::to_string(options_.max_frames) + ": expected 0 (all) or more");
   frame_count_ = options_.max_frames > 0 ? std::min(options_.max_frames, source.size()) : source.size();
   if (frame_count_ == 0) throw Error(source.description() + ": the sequence has no frames");
-  pipeline_ = std::make_unique<Pipeline>(options_.params, source.depthIntrinsics(), options_.device,
-                                         options_.with_classes);
+  // Tracking keeps to what the last frames fused, old walls and all restarted where the camera
+  // comes back (IcpParams::restart_stale_bricks), only where a second pass can fuse everything
+  // again and the loops join the two visits: tracked poses, loop closure on.
+  PipelineParams first_pass = options_.params;
+  first_pass.icp.restart_stale_bricks = options_.poses == PoseSource::Icp && options_.global.loop_closure;
+  pipeline_ = std::make_unique<Pipeline>(first_pass, source.depthIntrinsics(), options_.device, options_.with_classes);
   if (!options_.dynamic_class_ids.empty()) pipeline_->setDynamicClasses(options_.dynamic_class_ids);
   // A new map after a long loss is joined to the others, and fused with them, only by the second
   // pass: a run without one keeps searching the map it has.
@@ -289,8 +293,10 @@ bool Reconstruction::optimise() {
   const std::vector<Pose> moved =
       slam::optimiseTrajectory(tracker_->keyframes(), poses, anchors_, tracker_->priorHeldStretches(),
                                 options_.global, &global_);
-  // With several maps the first pass's volume holds only the last: all are fused again, joined or not.
-  if (!global_.moved() && tracker_->maps() == 1) return false;
+  // With several maps the first pass's volume holds only the last: all are fused again, joined or
+  // not. Where it restarted bricks it came back to, it holds only their later observations.
+  global_.bricks_restarted = pipeline_->state().bricks_restarted;
+  if (!global_.moved() && tracker_->maps() == 1 && global_.bricks_restarted == 0) return false;
   // The second pass: the first pass's volume is dropped before the new one grows.
   odometry_ = progress_.trajectory;
   for (size_t k = 0; k < moved.size(); ++k) progress_.trajectory[k].T_world_cam = moved[k];

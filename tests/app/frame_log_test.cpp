@@ -52,7 +52,9 @@ TEST(FrameLog, StepsBetweenTrackedFramesAndLostFramesQuoted) {
   start.icp_inlier_fraction = 1.f;  // as the tracker sets it
   log.add(frameAt(0), start);
   log.add(frameAt(1), trackedAt(0.03));
-  log.add(frameAt(2), trackedAt(0.065));  // 0.5 cm faster than the step before
+  FrameResult back = trackedAt(0.065);  // 0.5 cm faster than the step before
+  back.bricks_restarted = 7;             // and come back to bricks seen long ago
+  log.add(frameAt(2), back);
   FrameResult lost = trackedAt(0.5);
   lost.tracked = false;
   lost.integrated = false;
@@ -65,14 +67,16 @@ TEST(FrameLog, StepsBetweenTrackedFramesAndLostFramesQuoted) {
   const std::vector<std::string> rows = lines(log.csv());
   ASSERT_EQ(rows.size(), 7u);
   const std::vector<std::string> header = fields(rows[0]);
-  ASSERT_EQ(header.size(), 16u);
+  ASSERT_EQ(header.size(), 17u);
   EXPECT_EQ(header[0], "frame");
   EXPECT_EQ(header[11], "step_cm");
   EXPECT_EQ(header[13], "step_change_cm");
-  EXPECT_EQ(header[15], "note");
+  EXPECT_EQ(header[14], "bricks");
+  EXPECT_EQ(header[15], "restarted");
+  EXPECT_EQ(header[16], "note");
 
   const std::vector<std::string> first = fields(rows[1]);
-  ASSERT_EQ(first.size(), 16u);
+  ASSERT_EQ(first.size(), 17u);
   EXPECT_EQ(first[0], "0");
   EXPECT_EQ(first[2], "map start");
   EXPECT_EQ(first[3], "1");
@@ -89,11 +93,14 @@ TEST(FrameLog, StepsBetweenTrackedFramesAndLostFramesQuoted) {
   EXPECT_EQ(third[11], "3.50");
   EXPECT_EQ(third[13], "0.50");
   EXPECT_EQ(third[14], "100");
+  EXPECT_EQ(third[15], "7");
+  EXPECT_EQ(first[15], "0");
 
-  // The lost frame: its status and note quoted (both hold a comma or a quote), no step, no bricks.
+  // The lost frame: its status and note quoted (both hold a comma or a quote), no step, no bricks
+  // fused or restarted.
   EXPECT_EQ(rows[4].rfind("3,", 0), 0u) << rows[4];
   EXPECT_NE(rows[4].find(",\"lost, relocalising\",0,"), std::string::npos) << rows[4];
-  EXPECT_NE(rows[4].find(",,,,0,\"lost; none of 3 candidate poses agrees with the model (best: \"\"far\"\")\""),
+  EXPECT_NE(rows[4].find(",,,,0,0,\"lost; none of 3 candidate poses agrees with the model (best: \"\"far\"\")\""),
             std::string::npos)
       << rows[4];
 

@@ -271,6 +271,54 @@ TEST(Tracking, AnOldCopyOfTheMapOutsideTheModelWindowDoesNotPullTracking) {
   EXPECT_GT((both.T_world_cam.translation() - mapped.translation()).norm(), 0.05);
 }
 
+// The window alone does not keep an old copy out where the camera comes back to it: the
+// returning frame's marking lists the old bricks again, and their weight (20 frames here against
+// the returning frame's one) holds the surface where it was fused long ago. With
+// IcpParams::restart_stale_bricks those bricks start afresh as the returning frame fuses, and the
+// next frame tracks against what that frame saw. Here a room corner is fused 20 times, then 4
+// frames see nothing (the camera looks elsewhere for longer than the window of 3), then one frame
+// comes back 1.5 cm further off while claiming the first pose (the drift), then one is tracked.
+// A drift within the truncation band, as a walk's return brings (a larger one lands in other
+// bricks, which the window keeps out by itself).
+TEST(Tracking, ComingBackAfterTheModelWindowRestartsTheOldCopy) {
+  const SyntheticScene scene = roomCorner();
+  const Intrinsics k = testCamera(160, 120);
+  const Pose mapped = Pose::Identity();
+  const Pose drifted = poseFrom(0, 0, 0, 0, 0, -0.015);
+  auto comeBack = [&](Pipeline& pipeline) {
+    FrameResult last;
+    for (int i = 0; i < 25; ++i) {
+      RgbdFrame frame = scene.render(k, i < 24 ? mapped : drifted);
+      if (i >= 20 && i < 24) std::fill(frame.depth.data(), frame.depth.data() + k.width * k.height, 0.f);
+      frame.T_world_cam_given = mapped;
+      last = pipeline.processFrame(frame, PoseSource::Given);
+    }
+    return last;
+  };
+  PipelineParams restarting = withVoxel(0.005f);
+  restarting.icp.model_window_frames = 3;
+  restarting.icp.restart_stale_bricks = true;
+  Pipeline restarted(restarting, k, Device::Cpu);
+  const FrameResult back = comeBack(restarted);
+  EXPECT_GT(back.bricks_restarted, 100);
+  EXPECT_LE(back.bricks_restarted, back.bricks_fused);
+  EXPECT_EQ(restarted.state().bricks_restarted, back.bricks_restarted);
+  const FrameResult recent = restarted.processFrame(scene.render(k, drifted), PoseSource::Icp);
+  ASSERT_TRUE(recent.tracked) << recent.lost_reason;
+  const double restarted_off = (recent.T_world_cam.translation() - mapped.translation()).norm();
+  EXPECT_LT(restarted_off, 0.004);
+
+  // Without the restart the old copy, 20 frames to one, holds the surface: the drift comes back.
+  PipelineParams keeping = restarting;
+  keeping.icp.restart_stale_bricks = false;
+  Pipeline kept(keeping, k, Device::Cpu);
+  EXPECT_EQ(comeBack(kept).bricks_restarted, 0);
+  EXPECT_EQ(kept.state().bricks_restarted, 0);
+  const FrameResult pulled = kept.processFrame(scene.render(k, drifted), PoseSource::Icp);
+  const double kept_off = (pulled.T_world_cam.translation() - mapped.translation()).norm();
+  EXPECT_GT(kept_off, 0.01);  // 0.9 mm restarted, 15.7 mm kept (2026-12-07)
+}
+
 TEST(Tracking, AFrameWithNoDepthIsReportedLostAndKeepsTheLastPose) {
   const SyntheticScene scene = roomCorner();
   const Intrinsics k = testCamera(160, 120);

@@ -102,7 +102,7 @@ def checkpoint(frames, with_classes, windowed, bricks, lost=()):
     def pose(tx=0.0, ty=0.0, tz=0.0):  # Eigen's column-major 4x4
         return struct.pack("<16d", 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, tx, ty, tz, 1)
     settings = [("dataset", "/data/seq"), ("dataset_frames", "10"), ("device", "cpu")]
-    out = b"VDBFUSE-CKPT\n\0\0\0" + struct.pack("<I", 9) + struct.pack("<I", len(settings))
+    out = b"VDBFUSE-CKPT\n\0\0\0" + struct.pack("<I", 10) + struct.pack("<I", len(settings))
     out += b"".join(string(k) + string(v) for k, v in settings)
     out += struct.pack("<ffB", 0.02, 0.1, 1 if with_classes else 0)
     out += struct.pack("<ii4f", 64, 48, 60.0, 60.0, 32.0, 24.0)
@@ -116,10 +116,11 @@ def checkpoint(frames, with_classes, windowed, bricks, lost=()):
     out += struct.pack("<iI", frames, posed)
     out += b"".join(struct.pack("<d", 0.033 * i) + pose(0.01 * i) for i in range(posed))
     # lost frames: index, reason (2: too few inliers), name, report; then the session's state
-    # (empty: a run that has not started one), whether the last frame was fused, the last motion
+    # (empty: a run that has not started one), whether the last frame was fused, the last motion,
+    # the bricks restarted (format 10)
     out += struct.pack("<I", len(lost)) + b"".join(struct.pack("<iB", 1, 2) + string("1.png") + string(s)
                                                    for s in lost)
-    out += struct.pack("<Q", 0) + struct.pack("<B", 1 if frames else 0) + pose()
+    out += struct.pack("<Q", 0) + struct.pack("<B", 1 if frames else 0) + pose() + struct.pack("<q", 0)
     out += struct.pack("<I", len(bricks)) + b"".join(struct.pack("<3i", *b) for b in bricks)
     out += b"".join(struct.pack("<hH", (v % 64) * 256 - 8000, 1 + v % 3) for _ in bricks for v in range(512))
     out += b"".join(bytes([200, 100, 50, 255]) for _ in bricks for v in range(512))

@@ -218,6 +218,54 @@ TEST_F(ResumeTest, ASecondPassCheckpointKeepsTheFirstPassLostFrames) {
   EXPECT_EQ(test::firstDifferentBrick(resumed.pipeline().hostVolume(), through.pipeline().hostVolume()), -1);
 }
 
+// A first pass that restarted bricks where the camera came back to them (IcpParams::
+// restart_stale_bricks; here a tracking window of 8 frames over teddy's first 40) holds only their
+// later observations, so every frame is fused again: the scene is every frame fused at the final
+// poses, checked against a pipeline given them. A run stopped in its first pass after restarts
+// resumes to the same poses and scene, and counts the same restarts (the checkpoint keeps them).
+TEST_F(ResumeTest, AFirstPassThatRestartedBricksFusesEveryFrameAgain) {
+  ReconstructionOptions options;
+  options.params = test::teddyParams();
+  options.params.icp.model_window_frames = 8;
+  options.device = Device::Cpu;
+  options.max_frames = 40;
+  options.settings = {{"dataset", "teddy"}};
+  Reconstruction through(*data_, options);
+  ASSERT_EQ(through.run({}), Reconstruction::Outcome::Finished);
+  ASSERT_GT(through.globalReport().bricks_restarted, 0) << "the camera came back to no brick: the test proves nothing";
+  EXPECT_EQ(through.pass(), 2);
+  ASSERT_EQ(through.trajectory().size(), 40u);
+  Pipeline replay(test::teddyParams(), data_->depthIntrinsics(), Device::Cpu);
+  for (int i = 0; i < 40; ++i) {
+    RgbdFrame frame = data_->load(i);
+    frame.T_world_cam_given = through.trajectory()[size_t(i)].T_world_cam;
+    replay.processFrame(frame, PoseSource::Given);
+  }
+  EXPECT_EQ(test::firstDifferentBrick(through.pipeline().hostVolume(), replay.hostVolume()), -1);
+
+  const std::string path = dir_ + "/restarted.checkpoint";
+  int64_t restarted_before_stop = 0;
+  {
+    Reconstruction stopped(*data_, options);
+    Reconstruction::Callbacks callbacks;
+    callbacks.should_stop = [&] { return stopped.pass() == 1 && stopped.framesDone() == 30; };
+    ASSERT_EQ(stopped.run(callbacks), Reconstruction::Outcome::Stopped);
+    restarted_before_stop = stopped.pipeline().state().bricks_restarted;
+    stopped.saveCheckpoint(path);
+  }
+  EXPECT_GT(restarted_before_stop, 0);
+  Reconstruction resumed(*data_, options);
+  resumed.resume(path);
+  EXPECT_EQ(resumed.pipeline().state().bricks_restarted, restarted_before_stop);
+  ASSERT_EQ(resumed.run({}), Reconstruction::Outcome::Finished);
+  EXPECT_EQ(resumed.pass(), 2);
+  EXPECT_EQ(resumed.globalReport().bricks_restarted, through.globalReport().bricks_restarted);
+  ASSERT_EQ(resumed.trajectory().size(), through.trajectory().size());
+  for (size_t i = 0; i < through.trajectory().size(); ++i)
+    EXPECT_TRUE(test::sameBits(resumed.trajectory()[i].T_world_cam, through.trajectory()[i].T_world_cam)) << i;
+  EXPECT_EQ(test::firstDifferentBrick(resumed.pipeline().hostVolume(), through.pipeline().hostVolume()), -1);
+}
+
 // Issue 36: where the loops found agree with the tracked poses (fr1/xyz's first 100 frames: the
 // camera comes back over the desk) the loop closure changes nothing: the same poses, bit for
 // bit, and the same scene, voxel for voxel, as a run with it off.
