@@ -52,9 +52,9 @@ Reconstruction::Reconstruction(const FrameSource& source, const ReconstructionOp
     throw Error("ReconstructionOptions.max_frames = " + std::to_string(options_.max_frames) + ": expected 0 (all) or more");
   frame_count_ = options_.max_frames > 0 ? std::min(options_.max_frames, source.size()) : source.size();
   if (frame_count_ == 0) throw Error(source.description() + ": the sequence has no frames");
-  // Tracking keeps to what the last frames fused, old walls and all restarted where the camera
-  // comes back (IcpParams::restart_stale_bricks), only where a second pass can fuse everything
-  // again and the loops join the two visits: tracked poses, loop closure on.
+  // Where the camera comes back after the tracking model's window, the old bricks start afresh
+  // (IcpParams::restart_stale_bricks) only where the loops can join the two visits and a second
+  // pass fuses every frame again: tracked poses, loop closure on.
   PipelineParams first_pass = options_.params;
   first_pass.icp.restart_stale_bricks = options_.poses == PoseSource::Icp && options_.global.loop_closure;
   pipeline_ = std::make_unique<Pipeline>(first_pass, source.depthIntrinsics(), options_.device, options_.with_classes);

@@ -49,7 +49,8 @@ TEST(ReportJson, FiguresAreThePrintedOnes) {
   // The teddy's views measure every direction: no stretch left to the motion prior, none printed.
   EXPECT_EQ(figure(json, "prior_held_frames"), 0);
   EXPECT_EQ(run.output.find("motion prior:"), std::string::npos) << run.output;
-  // Eight frames come back to nothing seen before the tracking window: one pass, nothing restarted.
+  // Eight frames come back to nothing older than the tracking model's window (300 frames): one
+  // pass, no brick restarted.
   EXPECT_EQ(figure(json, "passes"), 1);
   EXPECT_EQ(figure(json, "bricks_restarted"), 0);
   EXPECT_GT(figure(json, "seconds"), 0);
