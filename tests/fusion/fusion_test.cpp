@@ -225,6 +225,16 @@ TEST(Tracking, IcpRecoversAKnownSixDofMotionWithinAMillimetreAndATenthOfADegree)
   EXPECT_LT(Eigen::AngleAxisd(error.linear()).angle() * 180 / M_PI, 0.1);
 }
 
+// A frame of `scene` seen from `truth` and fused where the camera claims it was (`claimed`): where
+// the two differ, the map drifts. A blank frame has no depth (the camera looks elsewhere).
+FrameResult fuseClaimingPose(Pipeline& pipeline, const SyntheticScene& scene, const Intrinsics& k, const Pose& truth,
+                             const Pose& claimed, bool blank = false) {
+  RgbdFrame frame = scene.render(k, truth);
+  if (blank) std::fill(frame.depth.data(), frame.depth.data() + k.width * k.height, 0.f);
+  frame.T_world_cam_given = claimed;
+  return pipeline.processFrame(frame, PoseSource::Given);
+}
+
 // Where a walk comes back after drifting, the map holds the place twice: the copy fused long ago
 // and the one recent frames fused, centimetres apart. Tracking against both pulls the camera
 // between them; with IcpParams::model_window_frames the tracking prediction after a fused frame
@@ -238,11 +248,7 @@ TEST(Tracking, AnOldCopyOfTheMapOutsideTheModelWindowDoesNotPullTracking) {
   const Pose mapped = Pose::Identity();
   const Pose drifted = poseFrom(0, 0, 0, 0, 0, -0.08);
   auto fuseWithDrift = [&](Pipeline& pipeline) {
-    for (int i = 0; i < 26; ++i) {
-      RgbdFrame frame = scene.render(k, i < 20 ? mapped : drifted);
-      frame.T_world_cam_given = mapped;
-      pipeline.processFrame(frame, PoseSource::Given);
-    }
+    for (int i = 0; i < 26; ++i) fuseClaimingPose(pipeline, scene, k, i < 20 ? mapped : drifted, mapped);
   };
   PipelineParams windowed_params = withVoxel(0.005f);
   windowed_params.icp.model_window_frames = 3;
@@ -287,12 +293,8 @@ TEST(Tracking, ComingBackAfterTheModelWindowRestartsTheOldCopy) {
   const Pose drifted = poseFrom(0, 0, 0, 0, 0, -0.015);
   auto comeBack = [&](Pipeline& pipeline) {
     FrameResult last;
-    for (int i = 0; i < 25; ++i) {
-      RgbdFrame frame = scene.render(k, i < 24 ? mapped : drifted);
-      if (i >= 20 && i < 24) std::fill(frame.depth.data(), frame.depth.data() + k.width * k.height, 0.f);
-      frame.T_world_cam_given = mapped;
-      last = pipeline.processFrame(frame, PoseSource::Given);
-    }
+    for (int i = 0; i < 25; ++i)
+      last = fuseClaimingPose(pipeline, scene, k, i < 24 ? mapped : drifted, mapped, /*blank=*/i >= 20 && i < 24);
     return last;
   };
   PipelineParams restarting = withVoxel(0.005f);
