@@ -67,7 +67,7 @@ void addReconstructOptions(CLI::App& cmd, ReconstructOptions& o) {
                  "Also write the trajectory tracking gave before the loop closure moved it (TUM format)");
   cmd.add_option("--report-json", o.report_json,
                  "Write the run's figures as JSON once it finished: frames, tracked, fused, lost (by reason), "
-                 "passes, seconds, peak_mib, bricks, active_voxels, device");
+                 "passes, bricks_restarted, seconds, peak_mib, bricks, active_voxels, device");
   cmd.add_option("--frame-log", o.frame_log,
                  "Write a CSV row per frame of the first pass: how well it matched the model, the directions "
                  "its view left free, how far it moved, and why a lost frame was lost (README \"Reading a run's "
