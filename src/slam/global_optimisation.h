@@ -1,12 +1,14 @@
 #pragma once
-// After the first pass: the keyframes' loops found and verified (slam/loop_closure.h), the pose
-// graph optimised (slam/pose_graph.h), and every posed frame moved with the keyframe it was
-// tracked after (its pose relative to that keyframe is what tracking measured and stays).
+// After the first pass: the keyframes' loops found and verified (slam/loop_closure.h), a lone loop
+// that would move the map dropped (slam/loop_support.h), the pose graph optimised
+// (slam/pose_graph.h), and every posed frame moved with the keyframe it was tracked after (its
+// pose relative to that keyframe is what tracking measured and stays).
 #include <vector>
 
 #include "core/pose.h"
 #include "slam/keyframes.h"
 #include "slam/loop_closure.h"
+#include "slam/loop_support.h"
 #include "slam/pose_graph.h"
 #include "slam/prior_held.h"
 
@@ -19,16 +21,18 @@ struct GlobalParams {
   // second pass costs about half the first.
   double min_correction_m = 0.005;
   // When fewer than `min_disagreeing_loops` loops disagree with the first pass's poses by more
-  // than `loops_agree_chi` of their standard deviations, the poses stand as they are: drift shows
-  // in several loops at once, while one alignment off by a little is the sensor's (TUM fr1/xyz's
-  // 798 frames: 279 loops, the median at 0.60, one at 2.23; optimising for that one moved frames
-  // up to 1.8 cm and the ATE went from 0.79 to 0.87 cm).
+  // than `loops_agree_chi` of their standard deviations, the poses stand as they are: drift
+  // shows in several loops at once, while one alignment off by a little is the sensor's (TUM
+  // fr1/xyz's 798 frames: 279 loops, the median at 0.60, one at 2.23; optimising for that one
+  // moved frames up to 1.8 cm and the ATE went from 0.79 to 0.87 cm). A loop that disagrees
+  // must also be confirmed by a loop next to it (slam/loop_support.h).
   double loops_agree_chi = 2.0;
   int min_disagreeing_loops = 3;
   // A map started after a loss (slam/map_joining.h) is moved onto the older ones only when at
   // least this many loops agree on where it lies.
   int min_joining_loops = 2;
   LoopParams loops;
+  LoopSupportParams support;  // a loop that would move the map within one must be seen twice
   PoseGraphParams graph;
 };
 
