@@ -30,7 +30,8 @@ std::vector<Pose> optimiseTrajectory(KeyframeStore& keyframes, const std::vector
   const JoinedMaps joined = joinMaps(keyframes, before, loops, params.min_joining_loops);
   r.maps_joined = joined.joined;
   {
-    const std::vector<bool> corroborated = corroboratedLoops(keyframes, joined.poses, loops, params.loops_agree_chi, params.support);
+    const std::vector<bool> corroborated =
+        corroboratedLoops(keyframes, joined.poses, loops, params.loops_agree_chi, params.support);
     std::vector<PoseGraphEdge> kept;
     for (size_t k = 0; k < loops.size(); ++k)
       if (joined.keep_loop[k] && corroborated[k]) kept.push_back(loops[k]);
