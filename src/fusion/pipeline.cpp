@@ -189,13 +189,15 @@ void Pipeline::integrate(FrameResult& result) {
   result.integrated = true;
 }
 
-// The bricks the window of this frame's tracking model did not hold (raycastForTracking: stamps
-// from newest - window + 1 on, the newest being the frame before), when they are to restart.
+// The bricks the window of this frame's tracking model did not hold (the newest stamp in it being
+// the frame before's), when they are to restart.
 uint32_t Pipeline::restartBefore(uint32_t stamp) const {
-  const IcpParams& icp = params_.icp;
-  if (!icp.restart_stale_bricks || icp.model_window_frames <= 0) return 0;
-  const uint32_t window = uint32_t(icp.model_window_frames);
-  return stamp > window ? stamp - window : 0u;
+  return params_.icp.restart_stale_bricks ? modelWindowStart(stamp - 1) : 0u;
+}
+
+uint32_t Pipeline::modelWindowStart(uint32_t newest) const {
+  const uint32_t window = uint32_t(std::max(0, params_.icp.model_window_frames));
+  return window > 0 && newest > window ? newest - window + 1 : 0u;
 }
 
 ImageView<const float> Pipeline::fusedDepth() const {
@@ -362,9 +364,7 @@ void Pipeline::skip() {
 // loop closure joins them instead. After a frame that was not fused (lost, relocalising, on
 // probation) the whole model is seen: a pose found again is judged against everything mapped.
 void Pipeline::raycastForTracking(const Pose& T_world_model, bool windowed) {
-  const uint32_t window = uint32_t(std::max(0, params_.icp.model_window_frames));
-  const uint32_t newest = last_marking_stamp_;
-  prediction_min_stamp_ = windowed && window > 0 && newest > window ? newest - window + 1 : 0;
+  prediction_min_stamp_ = windowed ? modelWindowStart(last_marking_stamp_) : 0u;
   raycast(T_world_model, params_.icp.photometric_weight > 0.f, params_.raycast.prediction_level, windowed,
           prediction_min_stamp_);
   model_has_intensity_ = params_.icp.photometric_weight > 0.f;

@@ -185,6 +185,9 @@ class Pipeline {
   // bricks_restarted and volume_full (some of its bricks found no slot: the pool was full).
   void integrate(FrameResult& result);
   uint32_t restartBefore(uint32_t stamp) const;  // MarkBricksKernel::restart_before
+  // The oldest marking stamp of the tracking model's window (IcpParams::model_window_frames) when
+  // `newest` is the newest stamp in it; 0: the whole model.
+  uint32_t modelWindowStart(uint32_t newest) const;
   // The depth integration marks and fuses: filtered or raw (IntegrationParams::
   // integrate_filtered_depth), with the dynamic pixels of a labelled frame kept for the vote.
   ImageView<const float> fusedDepth() const;
