@@ -110,7 +110,7 @@ void FrameLog::add(const RgbdFrame& frame, const FrameResult& result) {
   if (result.tracked && has_last_pose_) {
     const Pose step = last_pose_.inverse() * result.T_world_cam;
     row += number("%.2f", 100.0 * step.translation().norm()) + ",";
-    row += number("%.2f", Eigen::AngleAxisd(step.linear()).angle() * 180.0 / M_PI) + ",";
+    row += number("%.2f", rotationDeg(step)) + ",";
     // Against the step before, where both are one frame apart: a camera's pace changes by
     // millimetres a frame, an alias or a slide by centimetres.
     const bool follows = has_last_step_ && frame.index == last_index_ + 1;

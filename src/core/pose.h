@@ -1,5 +1,6 @@
 #pragma once
 #include <Eigen/Geometry>
+#include <cmath>
 #include <vector>
 
 #include "core/math.h"
@@ -17,6 +18,15 @@ inline Rigid3f toRigid3f(const Pose& pose) {
   out.t = {float(pose.translation().x()), float(pose.translation().y()),
            float(pose.translation().z())};
   return out;
+}
+
+// The angle of a relative rotation (`delta`'s rotation part), in degrees.
+inline double rotationDeg(const Pose& delta) { return Eigen::AngleAxisd(delta.linear()).angle() * 180.0 / M_PI; }
+
+// Whether pose b lies within max_m of pose a, turned at most max_deg from it.
+inline bool posesWithin(const Pose& a, const Pose& b, double max_m, double max_deg) {
+  const Pose d = a.inverse() * b;
+  return d.translation().norm() <= max_m && rotationDeg(d) <= max_deg;
 }
 
 // A timestamped camera pose, camera-to-world (TUM convention).

@@ -206,8 +206,6 @@ Pose startWeakDirectionsAtPrior(const RowSums& geometric_sums, const Eigen::Matr
   return eta.isZero() ? T_guess : T_guess * twistToPose(eta);
 }
 
-double rotationDeg(const Pose& delta) { return Eigen::AngleAxisd(delta.linear()).angle() * 180.0 / M_PI; }
-
 }  // namespace
 
 struct Pipeline::IcpSolution {

@@ -1,6 +1,5 @@
 #include "slam/loop_support.h"
 
-#include <cmath>
 #include <cstdlib>
 
 namespace vf::slam {
@@ -33,9 +32,7 @@ std::vector<bool> corroboratedLoops(const KeyframeStore& keyframes, const std::v
       if (b == a || !oneMap(f) || std::abs(f.from - e.from) > params.neighbourhood ||
           std::abs(f.to - e.to) > params.neighbourhood)
         continue;
-      const Pose d = placed.inverse() * placedBy(f, e.from, e.to, poses);
-      supported = d.translation().norm() <= params.agree_m &&
-                  Eigen::AngleAxisd(d.linear()).angle() * 180.0 / M_PI <= params.agree_deg;
+      supported = posesWithin(placed, placedBy(f, e.from, e.to, poses), params.agree_m, params.agree_deg);
     }
     kept[a] = supported;
   }

@@ -1,7 +1,5 @@
 #include "slam/map_joining.h"
 
-#include <cmath>
-
 namespace vf::slam {
 namespace {
 
@@ -10,10 +8,7 @@ namespace {
 constexpr double kAgreeM = 0.3;
 constexpr double kAgreeDeg = 10.0;
 
-bool samePlace(const Pose& a, const Pose& b) {
-  const Pose d = a.inverse() * b;
-  return d.translation().norm() <= kAgreeM && Eigen::AngleAxisd(d.linear()).angle() * 180.0 / M_PI <= kAgreeDeg;
-}
+bool samePlace(const Pose& a, const Pose& b) { return posesWithin(a, b, kAgreeM, kAgreeDeg); }
 
 }  // namespace
 

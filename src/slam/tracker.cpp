@@ -308,9 +308,8 @@ Pose Tracker::extrapolatedPose(double timestamp) const {
 bool Tracker::reachable(const Pose& T, double timestamp) const {
   const double elapsed_s = timestamp - recent_motion_.lastTime();
   if (!std::isfinite(elapsed_s) || elapsed_s <= 0) return true;
-  const Pose d = recent_motion_.lastPose().inverse() * T;
-  return d.translation().norm() <= params_.reach_slack_m + params_.max_speed_m_s * elapsed_s &&
-         Eigen::AngleAxisd(d.linear()).angle() * 180.0 / M_PI <= params_.reach_slack_deg + params_.max_turn_deg_s * elapsed_s;
+  return posesWithin(recent_motion_.lastPose(), T, params_.reach_slack_m + params_.max_speed_m_s * elapsed_s,
+                     params_.reach_slack_deg + params_.max_turn_deg_s * elapsed_s);
 }
 
 Pose Tracker::placeNewMap(const RgbdFrame& frame, const FrameFeatures& features) {
@@ -379,7 +378,7 @@ void Tracker::harvest(const RgbdFrame& frame, const FrameResult& result, bool fo
   if (!moved_on) {
     const Pose since = keyframes_[keyframes_.size() - 1].T_world_cam.inverse() * result.T_world_cam;
     moved_on = since.translation().norm() > params_.keyframe_distance_m ||
-               Eigen::AngleAxisd(since.linear()).angle() * 180.0 / M_PI > params_.keyframe_angle_deg;
+               rotationDeg(since) > params_.keyframe_angle_deg;
   }
   if (!force && !moved_on && !keyframes_.isNewView(code, params_.keyframe_novelty)) return;
   Keyframe k;
