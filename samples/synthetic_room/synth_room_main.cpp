@@ -17,6 +17,7 @@
 #include "core/atomic_output.h"
 #include "core/error.h"
 #include "core/output_lock.h"
+#include "core/pose.h"
 #include "io/mesh_io.h"
 #include "io/trajectory_io.h"
 #include "io/tum_writer.h"
@@ -129,7 +130,7 @@ void reportRuns(const RoomScanSource& source) {
     const Pose& b = walk[size_t(std::min(o.frames - 1, g.end()))].T_world_cam;
     std::printf("gap          frames %d-%d left out: the camera jumps %.2f m and %.1f deg (t %.3f -> %.3f s)\n", g.from,
                 g.end() - 1, (b.translation() - a.translation()).norm(),
-                Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle() * 180.0 / M_PI,
+                rotationDeg(a.inverse() * b),
                 walk[size_t(std::max(0, g.from - 1))].timestamp, walk[size_t(std::min(o.frames - 1, g.end()))].timestamp);
   }
   for (const FrameRange& b : o.blanks)
@@ -253,7 +254,7 @@ void evaluate(const Options& o) {
   } else {
     const Eigen::Vector3d t = T.translation();
     std::printf("alignment       %s from %s: |t| %.3f m, rotation %.2f deg\n", o.align.c_str(), o.trajectory.c_str(),
-                t.norm(), Eigen::AngleAxisd(T.linear()).angle() * 180.0 / M_PI);
+                t.norm(), rotationDeg(T));
   }
   std::printf("seen surface    %zu of %zu samples (%.1f m^2 at %.0f mm spacing) by %zu frames at %dx%d (%s)\n", s.seen,
               s.samples, double(s.seen) * cell_area, 1000.0 * o.spacing_m, saw.size(), width, height,

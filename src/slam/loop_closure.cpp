@@ -11,10 +11,6 @@
 namespace vf::slam {
 namespace {
 
-double angleDeg(const Pose& a, const Pose& b) {
-  return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle() * 180.0 / M_PI;
-}
-
 // The alignment's information has the right shape (a corridor constrains little along itself,
 // a view of one wall nothing along it) but not the right size: it treats thousands of point
 // residuals as independent, and claims a hundredth of a millimetre. Scaled so that the mean
@@ -184,7 +180,7 @@ std::vector<PoseGraphEdge> detectLoops(const KeyframeStore& keyframes, const Loo
       if (d <= params.max_code_dissimilarity) by_code.push_back({d, i});
       const double distance = (newer.T_world_cam.translation() - older.T_world_cam.translation()).norm();
       if (distance <= params.max_candidate_distance_m &&
-          angleDeg(newer.T_world_cam, older.T_world_cam) <= params.max_candidate_angle_deg)
+          rotationDeg(newer.T_world_cam.inverse() * older.T_world_cam) <= params.max_candidate_angle_deg)
         by_place.push_back({float(distance), i});
     }
     std::sort(by_code.begin(), by_code.end());
