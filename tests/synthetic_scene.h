@@ -2,6 +2,7 @@
 // Analytic scenes rendered to exact depth maps, for tests with known answers: planes and
 // spheres, ray-intersected per pixel from any camera pose.
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <vector>
 
@@ -21,6 +22,8 @@ struct Sphere {
 struct SyntheticScene {
   std::vector<Plane> planes;
   std::vector<Sphere> spheres;
+  // The colour at a surface point; empty: sinusoids of the world coordinates.
+  std::function<Rgb8(const Eigen::Vector3d&)> color_at;
 
   // Distance along the unit ray to the first surface, or +inf.
   double intersect(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) const {
@@ -56,8 +59,10 @@ struct SyntheticScene {
         if (!std::isfinite(t) || z > max_depth_m) continue;
         frame.depth(x, y) = float(z);
         const Eigen::Vector3d p = T_world_cam.translation() + t * dir;
-        frame.color(x, y) = Rgb8{uint8_t(128 + 100 * std::sin(20 * p.x())), uint8_t(128 + 100 * std::sin(20 * p.y())),
-                                 uint8_t(128 + 100 * std::sin(20 * p.z())), 255};
+        frame.color(x, y) = color_at ? color_at(p)
+                                     : Rgb8{uint8_t(128 + 100 * std::sin(20 * p.x())),
+                                            uint8_t(128 + 100 * std::sin(20 * p.y())),
+                                            uint8_t(128 + 100 * std::sin(20 * p.z())), 255};
       }
     return frame;
   }

@@ -124,7 +124,12 @@ void FrameLog::add(const RgbdFrame& frame, const FrameResult& result) {
   if (result.tracked) last_pose_ = result.T_world_cam, has_last_pose_ = true, last_index_ = frame.index;
   row += std::to_string(result.integrated ? result.bricks_fused : 0) + ",";
   row += std::to_string(result.integrated ? result.bricks_restarted : 0) + ",";
-  row += result.tracked ? "" : csvField(result.lost_reason);
+  if (!result.tracked) {
+    row += csvField(result.lost_reason);
+  } else if (result.second_start_moved_m > 0.f) {
+    row += csvField("solved again from the motion prior, which fits better: " +
+                    number("%.1f", 100.0 * result.second_start_moved_m) + " cm from the first solution");
+  }
   rows_.push_back(std::move(row));
 }
 

@@ -27,7 +27,9 @@
 //   restarted               of those, bricks no frame of the tracking model's window had seen
 //                           (the camera came back to them): cleared before this frame fused,
 //                           so that their old, drifted copy does not pull the tracker
-//   note                    the tracker's words for a frame it did not track (CSV-quoted)
+//   note                    the tracker's words for a frame it did not track (CSV-quoted), or
+//                           for a tracked one whose pose came from the second solve, started at
+//                           the motion prior (IcpParams::second_start_at_prior)
 // A resumed run keeps the interrupted run's rows for the frames before its checkpoint.
 #include <string>
 #include <vector>

@@ -63,6 +63,13 @@ struct IcpParams {
   // worse (ATE 30 -> 62 cm): the walk then comes back to its start with the map 35 cm off
   // rather than 1.4 m, and the old walls pull the tracker; with model_window_frames they do not.
   bool degenerate_start_at_prior = true;
+  // Where the finest level left a direction free and the prior puts the camera at least 1 cm
+  // from the solution along the free directions, solve once more from the solution moved there,
+  // and keep that solution if it fits the frame better (fusion/tracking.cpp
+  // solveAgainFromPrior). From the still guess the photometric term can settle a texture period
+  // short of the walk's motion: the synthetic corridor's walk 1 past a radiator, 4.7 cm short at
+  // frames 321-326, then lost until frame 334 (README "Reading a run's frame log").
+  bool second_start_at_prior = true;
   bool constant_velocity = false;     // predict the pose from the last motion (else: no motion)
   // After a fused frame, track against the bricks whose marking some frame of the last this many
   // listed, not the whole model (fusion/pipeline.cpp raycastForTracking). 0 = the whole model.

@@ -48,6 +48,9 @@ struct FrameResult {
   // own scatter (1: not measured): about 0 for a corridor along its length.
   float weakest_direction_share = 1.f;
   float jump_m = 0.f, jump_deg = 0.f;
+  // > 0: the pose came from the second solve, started at the motion prior, which fitted the
+  // frame better than the first (IcpParams::second_start_at_prior); how far apart the two lay.
+  float second_start_moved_m = 0.f;
 };
 
 // What a track() result is judged against: the pose the camera was at (the one-frame motion
@@ -96,6 +99,9 @@ struct PipelineState {
   // every observation of them.
   int64_t bricks_restarted = 0;
 };
+
+struct IcpKernel;          // fusion/icp_kernels.h
+struct PhotometricKernel;  // fusion/photometric_kernels.h
 
 class Pipeline {
  public:
@@ -176,8 +182,17 @@ class Pipeline {
   struct Buffers;
   struct IcpSolution;
   // Tracking (fusion/tracking.cpp): the ICP solve, then the decision whether to trust it.
-  // T_hold: the pose the directions the view leaves unconstrained are held at.
-  IcpSolution solveIcp(const Pose& initial_guess, const Pose& T_hold, float coarse_reach_m);
+  // T_hold: the pose the directions the view leaves unconstrained are held at. solvePyramid is
+  // the coarse-to-fine solve from initial_guess; where the view leaves directions free,
+  // solveAgainFromPrior solves once more from the prior (IcpParams::second_start_at_prior) and
+  // returns the solution that fits the frame better (finestFit).
+  IcpSolution solvePyramid(const Pose& initial_guess, const Pose& T_hold, float coarse_reach_m);
+  IcpSolution solveAgainFromPrior(const IcpSolution& first, const Pose& T_hold, float coarse_reach_m);
+  struct FinestFit;
+  FinestFit finestFit(const Pose& T_world_cam) const;
+  // The point-to-plane and photometric terms at a pyramid level, without a pose yet.
+  IcpKernel icpKernel(int level, float coarse_reach_m) const;
+  PhotometricKernel photometricKernel(int level) const;
   // How the measured points move under a camera-frame pose increment (fusion/tracking.cpp).
   Eigen::Matrix<double, 6, 6> measuredPointMetric() const;
   FrameResult judgeTracking(const IcpSolution& solution, const Pose& guess, const TrackingCheck& check) const;

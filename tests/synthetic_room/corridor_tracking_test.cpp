@@ -99,14 +99,19 @@ TEST(CorridorTracking, TurningACornerFacingOneBlankWallKeepsToTheWalk) {
 // of the whole walk). Started where the motion prior puts that direction
 // (IcpParams::degenerate_start_at_prior), it keeps the pace: from a fresh start at frame 290,
 // 1.17 cm along the walk and 2.17 cm in all at worst (0.71 in all with the points' mean held,
-// before 2026-12-06), against 117 cm from the still start.
+// before 2026-12-06), against 117 cm from the still start. The second solve from the prior
+// (IcpParams::second_start_at_prior) finds the pace from the still start as well: 2.16 cm.
 TEST(CorridorTracking, WalkingPastARadiatorsFinsKeepsThePace) {
   const RoomScanSource source = walkStretch(290, 336);
   const Drift drift = driftOf(source, PipelineParams{});
   EXPECT_LT(drift.worst_cm, 3.0) << "worst at walk frame " << drift.worst_frame;
   PipelineParams still_start;
   still_start.icp.degenerate_start_at_prior = false;
+  still_start.icp.second_start_at_prior = false;
   EXPECT_GT(driftOf(source, still_start).worst_cm, 20.0) << "the still start no longer loses the fins";
+  PipelineParams still_then_prior;
+  still_then_prior.icp.degenerate_start_at_prior = false;
+  EXPECT_LT(driftOf(source, still_then_prior).worst_cm, 3.0) << "the second solve from the prior no longer finds the pace";
 }
 
 }  // namespace
