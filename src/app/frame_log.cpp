@@ -127,8 +127,10 @@ void FrameLog::add(const RgbdFrame& frame, const FrameResult& result) {
   if (!result.tracked) {
     row += csvField(result.lost_reason);
   } else if (result.second_start_moved_m > 0.f) {
-    row += csvField("solved again from the motion prior, which fits better: " +
-                    number("%.1f", 100.0 * result.second_start_moved_m) + " cm from the first solution");
+    row += csvField(std::string("solved again from ") +
+                    (result.second_start_at_pace ? "the last second's median pace" : "the motion prior") +
+                    ", which fits better: " + number("%.1f", 100.0 * result.second_start_moved_m) +
+                    " cm from the first solution");
   }
   rows_.push_back(std::move(row));
 }

@@ -28,8 +28,9 @@
 //                           (the camera came back to them): cleared before this frame fused,
 //                           so that their old, drifted copy does not pull the tracker
 //   note                    the tracker's words for a frame it did not track (CSV-quoted), or
-//                           for a tracked one whose pose came from the second solve, started at
-//                           the motion prior (IcpParams::second_start_at_prior)
+//                           for a tracked one whose pose came from a second solve, started at
+//                           the motion prior or at the last second's median pace
+//                           (IcpParams::second_start_at_prior, second_start_at_pace)
 // A resumed run keeps the interrupted run's rows for the frames before its checkpoint.
 #include <string>
 #include <vector>

@@ -70,6 +70,15 @@ struct IcpParams {
   // short of the walk's motion: the synthetic corridor's walk 1 past a radiator, 4.7 cm short at
   // frames 321-326, then lost until frame 334 (README "Reading a run's frame log").
   bool second_start_at_prior = true;
+  // And where the camera's median pace over the last second (TrackingCheck::pace_motion) puts it
+  // 1 cm or more from that solution along the free directions, solve once more from there, held
+  // there, and keep the better fit as above. A solve that overshoots along a free direction hands
+  // its overshoot to the next frame's prior, and the pace runs away: the corridor at 320x240,
+  // walk 0, frames 522-532, went from the walk's 3.3 to 9.6 cm a frame, where the true motion's
+  // pose fitted most frames better by both costs (4-20 % per pair) and the held prior kept the
+  // solve from it; the camera was lost at the corner and the walk ended 73 cm off (README "Beyond
+  // the judge": judged on both sensor seeds, 320x240 median 11.0 -> 5.0 cm).
+  bool second_start_at_pace = true;
   bool constant_velocity = false;     // predict the pose from the last motion (else: no motion)
   // After a fused frame, track against the bricks whose marking some frame of the last this many
   // listed, not the whole model (fusion/pipeline.cpp raycastForTracking). 0 = the whole model.

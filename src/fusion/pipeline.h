@@ -51,6 +51,9 @@ struct FrameResult {
   // > 0: the pose came from the second solve, started at the motion prior, which fitted the
   // frame better than the first (IcpParams::second_start_at_prior); how far apart the two lay.
   float second_start_moved_m = 0.f;
+  // That start was the walker's median pace (IcpParams::second_start_at_pace), not the last
+  // frame's motion carried on.
+  bool second_start_at_pace = false;
 };
 
 // What a track() result is judged against: the pose the camera was at (the one-frame motion
@@ -70,6 +73,10 @@ struct TrackingCheck {
   // The frame intervals since T_world_previous the one-frame limits on motion and on the jump
   // away from the guess (IcpParams::max_translation_m, max_jump_m, ...) allow for.
   double limit_intervals = 1.0;
+  // The camera's motion over one frame at its median pace over the last second
+  // (slam/recent_motion.h), where the tracker knows it: another start for a frame that leaves a
+  // direction free (IcpParams::second_start_at_pace).
+  std::optional<Pose> pace_motion = std::nullopt;
 };
 
 // Host copies of the current model prediction (level 0), for renders.
@@ -184,10 +191,11 @@ class Pipeline {
   // Tracking (fusion/tracking.cpp): the ICP solve, then the decision whether to trust it.
   // T_hold: the pose the directions the view leaves unconstrained are held at. solvePyramid is
   // the coarse-to-fine solve from initial_guess; where the view leaves directions free,
-  // solveAgainFromPrior solves once more from the prior (IcpParams::second_start_at_prior) and
-  // returns the solution that fits the frame better (finestFit).
+  // solveAgainFromPrior solves once more from a prior (the motion prior or the camera's pace:
+  // IcpParams::second_start_at_prior, second_start_at_pace) and returns that solution where it
+  // fits the frame better (finestFit), else nothing.
   IcpSolution solvePyramid(const Pose& initial_guess, const Pose& T_hold, float coarse_reach_m);
-  IcpSolution solveAgainFromPrior(const IcpSolution& first, const Pose& T_hold, float coarse_reach_m);
+  std::optional<IcpSolution> solveAgainFromPrior(const IcpSolution& first, const Pose& T_hold, float coarse_reach_m);
   struct FinestFit;
   FinestFit finestFit(const Pose& T_world_cam) const;
   // The point-to-plane and photometric terms at a pyramid level, without a pose yet.

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <vector>
 
 #include "fusion/icp_kernels.h"
@@ -220,6 +221,7 @@ struct Pipeline::IcpSolution {
   // The share the model's normal scatter gives a free direction (solveIncrement).
   double normal_scatter = 0;
   float second_start_moved_m = 0.f;  // FrameResult::second_start_moved_m
+  bool second_start_at_pace = false;  // FrameResult::second_start_at_pace
 };
 
 // The fit the second start is judged by, at the finest level: the point-to-plane rows' squared
@@ -311,24 +313,24 @@ Pipeline::FinestFit Pipeline::finestFit(const Pose& T_world_cam) const {
 // alone decides the free directions, which it barely measures: no second start. It runs on the
 // frames that leave a direction free and whose prior lies 1 cm or more away there (track() adds:
 // whose first solution passed the tracking checks, and whose prior is the last frame's motion
-// carried on one frame).
-Pipeline::IcpSolution Pipeline::solveAgainFromPrior(const IcpSolution& first, const Pose& T_hold, float coarse_reach_m) {
+// carried on one frame). T_hold is that prior, or the camera's median pace over the last second
+// (IcpParams::second_start_at_pace), a start where the last frame's motion overshot.
+std::optional<Pipeline::IcpSolution> Pipeline::solveAgainFromPrior(const IcpSolution& first, const Pose& T_hold,
+                                                                   float coarse_reach_m) {
   const IcpParams& p = params_.icp;
-  if (!p.second_start_at_prior || first.degenerate_directions <= 0 || !photometricActive())
-    return first;
+  if (first.degenerate_directions <= 0 || !photometricActive()) return std::nullopt;
   const double geometric_weight = pointToPlaneWeight(first.finest_sums);
-  if (!(geometric_weight > 0) || !first.T_world_cam.matrix().allFinite()) return first;
+  if (!(geometric_weight > 0) || !first.T_world_cam.matrix().allFinite()) return std::nullopt;
   const Pose start = startWeakDirectionsAtPrior(first.finest_sums, measuredPointMetric(), first.T_world_cam, T_hold,
                                                 (p.degenerate_share + first.normal_scatter) * geometric_weight);
   constexpr double kMinSeparation_m = 0.01;
-  if ((start.translation() - first.T_world_cam.translation()).norm() < kMinSeparation_m) return first;
+  if ((start.translation() - first.T_world_cam.translation()).norm() < kMinSeparation_m) return std::nullopt;
   IcpSolution second = solvePyramid(start, T_hold, coarse_reach_m);
-  if (!second.T_world_cam.matrix().allFinite()) return first;
+  if (!second.T_world_cam.matrix().allFinite()) return std::nullopt;
   const FinestFit a = finestFit(first.T_world_cam), b = finestFit(second.T_world_cam);
   const bool better = b.photometricPerPair() < 0.95 * a.photometricPerPair() &&
                       b.geometricPerPair() <= 1.05 * a.geometricPerPair() && b.pairs >= 0.8 * a.pairs;
-  if (!better) return first;
-  second.second_start_moved_m = float((second.T_world_cam.translation() - first.T_world_cam.translation()).norm());
+  if (!better) return std::nullopt;
   return second;
 }
 
@@ -458,10 +460,21 @@ FrameResult Pipeline::track(const Pose& guess, const TrackingCheck& check) {
   const IcpSolution first = solvePyramid(guess, T_hold, check.coarse_reach_m);
   const FrameResult judged = judgeTracking(first, guess, check);
   if (!judged.tracked || !prior_is_last_step) return judged;
-  const IcpSolution second = solveAgainFromPrior(first, T_hold, check.coarse_reach_m);
-  if (!(second.second_start_moved_m > 0.f)) return judged;
-  const FrameResult judged_second = judgeTracking(second, guess, check);
-  return judged_second.tracked ? judged_second : judged;
+  // Each further start is kept where it fits the frame better than the solution kept so far
+  // (solveAgainFromPrior) and passes the tracking checks.
+  IcpSolution kept = first;
+  FrameResult kept_result = judged;
+  auto solveAgainFrom = [&](const Pose& T_prior, bool at_pace) {
+    std::optional<IcpSolution> again = solveAgainFromPrior(kept, T_prior, check.coarse_reach_m);
+    if (!again) return;
+    again->second_start_moved_m = float((again->T_world_cam.translation() - first.T_world_cam.translation()).norm());
+    again->second_start_at_pace = at_pace;
+    const FrameResult judged_again = judgeTracking(*again, guess, check);
+    if (judged_again.tracked) kept = *again, kept_result = judged_again;
+  };
+  if (params_.icp.second_start_at_prior) solveAgainFrom(T_hold, false);
+  if (params_.icp.second_start_at_pace && check.pace_motion) solveAgainFrom(check.T_world_previous * *check.pace_motion, true);
+  return kept_result;
 }
 
 const char* lostReasonName(LostReason reason) {
@@ -495,6 +508,7 @@ FrameResult Pipeline::judgeTracking(const IcpSolution& solution, const Pose& gue
   result.degenerate_directions = solution.degenerate_directions;
   result.weakest_direction_share = float(solution.weakest_direction_share);
   result.second_start_moved_m = solution.second_start_moved_m;
+  result.second_start_at_pace = solution.second_start_at_pace;
   // The fraction is relative to the measured pixels that have a normal (what ICP can use).
   const int measured = int(sums[normal_row::kMeasured]);
   result.icp_inlier_fraction = measured > 0 ? float(result.icp_inliers) / float(measured) : 0.f;

@@ -161,7 +161,14 @@ Tracker::Step Tracker::trackOn(const RgbdFrame& frame) {
   // Across dropped frames the prior is the recent pace carried over the time unseen, not one
   // frame's step, and the one-frame limits allow for the intervals (dropped_frames_bridged).
   const double steps = stepsSinceLastFrame(frame);
-  if (steps != 1.0) check.prior_motion = recent_motion_.lastPose().inverse() * extrapolatedPose(frame.timestamp);
+  if (steps != 1.0) {
+    check.prior_motion = recent_motion_.lastPose().inverse() * extrapolatedPose(frame.timestamp);
+  } else if (last_good_index_ == frame.index - 1 && state_ == State::Tracking) {
+    // The pace the last second's good frames walked at, another start where the view leaves a
+    // direction free (IcpParams::second_start_at_pace): the last frame's motion may carry an
+    // overshoot.
+    check.pace_motion = recent_motion_.lastPose().inverse() * extrapolatedPose(frame.timestamp);
+  }
   check.limit_intervals = std::clamp(steps, 1.0, 1.0 + double(params_.dropped_frames_bridged));
   FrameResult r = pipeline_.track(predictedPose(frame, check.prior_motion), check);
   if (r.tracked) rejectCollapse(r);

@@ -110,14 +110,14 @@ TEST(DegenerateView, ACameraSlidingAlongTheWallKeepsItsMotionThere) {
   EXPECT_NEAR(r.T_world_cam.translation().y(), 0.0, 5e-4) << r.T_world_cam.translation().transpose();
 }
 
-// The wall with a grating on it (grey stripes 80 mm apart over 30 x 30 cm, plain grey elsewhere:
-// texture only there), rendered with colour.
-RgbdFrame gratingFrame(const Intrinsics& k, const Pose& T_world_cam, unsigned seed) {
+// The wall with a grating on it (grey stripes `period_m` apart over 30 x 30 cm, plain grey
+// elsewhere: texture only there), rendered with colour.
+RgbdFrame gratingFrame(const Intrinsics& k, const Pose& T_world_cam, unsigned seed, double period_m = 0.080) {
   SyntheticScene wall;
   wall.planes.push_back({Eigen::Vector3d(0, 0, -1), -0.9});
-  wall.color_at = [](const Eigen::Vector3d& p) {
+  wall.color_at = [period_m](const Eigen::Vector3d& p) {
     const bool on = std::abs(p.x()) < 0.15 && std::abs(p.y()) < 0.15;
-    const auto grey = uint8_t(on ? 128 + 100 * std::sin(2 * M_PI * p.x() / 0.080) : 128);
+    const auto grey = uint8_t(on ? 128 + 100 * std::sin(2 * M_PI * p.x() / period_m) : 128);
     return Rgb8{grey, grey, grey, 255};
   };
   RgbdFrame frame = wall.render(k, T_world_cam);
@@ -158,6 +158,41 @@ TEST(DegenerateView, ASolveCaughtAGratingPeriodShortIsSolvedAgainFromThePrior) {
   EXPECT_EQ(first_only.second_start_moved_m, 0.f);
   EXPECT_NEAR(with_second.T_world_cam.translation().x(), 0.12, 1e-3) << with_second.T_world_cam.translation().transpose();
   EXPECT_NEAR(with_second.second_start_moved_m, 0.12 - first_only.T_world_cam.translation().x(), 2e-3);
+}
+
+// Recorded poses along the grating whose last step overshot the walk (x = -80, -70, 10, 100 mm),
+// then a frame 10 mm on (x = 110) placed by ICP. Its prior, the last step carried on, stands a
+// grating period past it (x = 190); the camera's pace, 10 mm a frame, is the other start
+// (TrackingCheck::pace_motion; the tracker gives its median over the last second).
+FrameResult placedAfterAnOvershoot(bool start_at_pace) {
+  const Intrinsics k = testCamera(320, 240);
+  PipelineParams params;
+  params.volume.voxel_size_m = 0.004f;
+  params.icp.second_start_at_pace = start_at_pace;
+  Pipeline pipeline(params, k, Device::Cpu);
+  const double recorded_x[] = {-0.08, -0.07, 0.01, 0.10};
+  for (int i = 0; i < 4; ++i) {
+    const Pose T = poseFrom(0, 0, 0, recorded_x[i], 0, 0);
+    RgbdFrame frame = gratingFrame(k, T, unsigned(i + 1));
+    frame.T_world_cam_given = T;
+    pipeline.processFrame(frame, PoseSource::Given);
+  }
+  pipeline.measure(gratingFrame(k, poseFrom(0, 0, 0, 0.11, 0, 0), 5));
+  TrackingCheck check{pipeline.pose(), false};
+  check.pace_motion = poseFrom(0, 0, 0, 0.01, 0, 0);
+  return pipeline.track(pipeline.pose(), check);
+}
+
+TEST(DegenerateView, AnOvershotPriorIsSolvedAgainFromThePace) {
+  const FrameResult prior_only = placedAfterAnOvershoot(false), with_pace = placedAfterAnOvershoot(true);
+  ASSERT_TRUE(prior_only.tracked) << prior_only.lost_reason << " x " << prior_only.T_world_cam.translation().x();
+  ASSERT_TRUE(with_pace.tracked) << with_pace.lost_reason;
+  std::printf("held at the last step: x = %.1f mm; with the pace start: x = %.1f mm\n",
+              1e3 * prior_only.T_world_cam.translation().x(), 1e3 * with_pace.T_world_cam.translation().x());
+  EXPECT_GT(std::abs(prior_only.T_world_cam.translation().x() - 0.11), 0.01);
+  EXPECT_FALSE(prior_only.second_start_at_pace);
+  EXPECT_NEAR(with_pace.T_world_cam.translation().x(), 0.11, 1e-3) << with_pace.T_world_cam.translation().transpose();
+  EXPECT_TRUE(with_pace.second_start_at_pace);
 }
 
 }  // namespace
