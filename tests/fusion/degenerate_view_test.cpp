@@ -110,14 +110,14 @@ TEST(DegenerateView, ACameraSlidingAlongTheWallKeepsItsMotionThere) {
   EXPECT_NEAR(r.T_world_cam.translation().y(), 0.0, 5e-4) << r.T_world_cam.translation().transpose();
 }
 
-// The wall with a grating on it (grey stripes `period_m` apart over 30 x 30 cm, plain grey
-// elsewhere: texture only there), rendered with colour.
-RgbdFrame gratingFrame(const Intrinsics& k, const Pose& T_world_cam, unsigned seed, double period_m = 0.080) {
+// The wall with a grating on it (grey stripes 80 mm apart over 30 x 30 cm, plain grey elsewhere:
+// texture only there), rendered with colour.
+RgbdFrame gratingFrame(const Intrinsics& k, const Pose& T_world_cam, unsigned seed) {
   SyntheticScene wall;
   wall.planes.push_back({Eigen::Vector3d(0, 0, -1), -0.9});
-  wall.color_at = [period_m](const Eigen::Vector3d& p) {
+  wall.color_at = [](const Eigen::Vector3d& p) {
     const bool on = std::abs(p.x()) < 0.15 && std::abs(p.y()) < 0.15;
-    const auto grey = uint8_t(on ? 128 + 100 * std::sin(2 * M_PI * p.x() / period_m) : 128);
+    const auto grey = uint8_t(on ? 128 + 100 * std::sin(2 * M_PI * p.x() / 0.080) : 128);
     return Rgb8{grey, grey, grey, 255};
   };
   RgbdFrame frame = wall.render(k, T_world_cam);
