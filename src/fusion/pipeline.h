@@ -48,8 +48,9 @@ struct FrameResult {
   // own scatter (1: not measured): about 0 for a corridor along its length.
   float weakest_direction_share = 1.f;
   float jump_m = 0.f, jump_deg = 0.f;
-  // > 0: the pose came from the second solve, started at the motion prior, which fitted the
-  // frame better than the first (IcpParams::second_start_at_prior); how far apart the two lay.
+  // > 0: the pose came from a second solve, started at the motion prior or at the camera's pace,
+  // which fitted the frame better than the first (IcpParams::second_start_at_prior,
+  // second_start_at_pace); how far apart the two lay.
   float second_start_moved_m = 0.f;
   // That start was the walker's median pace (IcpParams::second_start_at_pace), not the last
   // frame's motion carried on.
@@ -201,6 +202,8 @@ class Pipeline {
   // The point-to-plane and photometric terms at a pyramid level, without a pose yet.
   IcpKernel icpKernel(int level, float coarse_reach_m) const;
   PhotometricKernel photometricKernel(int level) const;
+  // The prediction's pyramid level a measured level associates against.
+  int modelLevel(int level) const;
   // How the measured points move under a camera-frame pose increment (fusion/tracking.cpp).
   Eigen::Matrix<double, 6, 6> measuredPointMetric() const;
   FrameResult judgeTracking(const IcpSolution& solution, const Pose& guess, const TrackingCheck& check) const;

@@ -235,12 +235,16 @@ struct Pipeline::FinestFit {
   double photometricPerPair() const { return photometric_error / std::max(1.0, pairs); }
 };
 
+int Pipeline::modelLevel(int l) const {
+  // The prediction exists from params_.raycast.prediction_level down; finer measured levels
+  // associate against it (projective association only needs the model's camera).
+  return std::max(l, params_.raycast.prediction_level);
+}
+
 IcpKernel Pipeline::icpKernel(int l, float coarse_reach_m) const {
   const Buffers& b = *buffers_;
   const IcpParams& p = params_.icp;
-  // The prediction exists from params_.raycast.prediction_level down; finer measured levels
-  // associate against it (projective association only needs the model's camera).
-  const int model_level = std::max(l, params_.raycast.prediction_level);
+  const int model_level = modelLevel(l);
   IcpKernel icp;
   icp.vertex_cam = constView(b.vertex[l]);
   icp.normal_cam = constView(b.normal[l]);
@@ -266,7 +270,7 @@ IcpKernel Pipeline::icpKernel(int l, float coarse_reach_m) const {
 PhotometricKernel Pipeline::photometricKernel(int l) const {
   const Buffers& b = *buffers_;
   const IcpParams& p = params_.icp;
-  const int model_level = std::max(l, params_.raycast.prediction_level);
+  const int model_level = modelLevel(l);
   PhotometricKernel photo;
   photo.model_vertex = constView(b.model_vertex[model_level]);
   photo.model_normal = constView(b.model_normal[model_level]);
@@ -366,8 +370,7 @@ Pipeline::IcpSolution Pipeline::solvePyramid(const Pose& initial_guess, const Po
   T = initial_guess;
   double& normal_scatter = solution.normal_scatter;
   if (p.degenerate_share > 0 && p.degenerate_noise_floor) {
-    const int model_level = std::max(0, params_.raycast.prediction_level);
-    const ModelNormalScatterKernel scatter{constView(b.model_normal[model_level])};
+    const ModelNormalScatterKernel scatter{constView(b.model_normal[modelLevel(0)])};
     const std::array<double, 2> sums = parallelReduce<2>(device_, scatter.count(), scatter);
     if (sums[1] > 0) normal_scatter = sums[0] / sums[1] / 4.0;
   }
