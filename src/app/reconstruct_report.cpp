@@ -83,6 +83,8 @@ void printLoopClosure(const slam::GlobalReport& r, bool enabled) {
   if (r.maps > 1) {
     std::printf("; tracking started %d new map%s where it was lost and could not find its map again", r.maps - 1,
                 r.maps == 2 ? "" : "s");
+    if (r.maps_turned > 0)
+      std::printf(" (%d also searched for turned to face as the older maps' floor and walls do)", r.maps_turned);
     if (r.maps_joined == r.maps - 1)
       std::printf(", %s joined to the older maps by loops", r.maps == 2 ? "it" : "all");
     else

@@ -4,6 +4,7 @@
 
 #include "core/error.h"
 #include "slam/map_joining.h"
+#include "slam/map_orientation.h"
 
 namespace vf::slam {
 
@@ -22,7 +23,12 @@ std::vector<Pose> optimiseTrajectory(KeyframeStore& keyframes, const std::vector
   LoopStats stats;
   std::vector<PoseGraphEdge> edges = odometryEdges(keyframes, params.loops, prior_held);
   const size_t odometry = edges.size();
-  std::vector<PoseGraphEdge> loops = detectLoops(keyframes, params.loops, &stats, prior_held);
+  std::vector<Pose> search_poses;
+  if (r.maps > 1 && params.min_map_turn_deg > 0) {
+    search_poses = orientLaterMaps(keyframes, params.min_map_turn_deg, &r.maps_turned);
+    if (r.maps_turned == 0) search_poses.clear();
+  }
+  std::vector<PoseGraphEdge> loops = detectLoops(keyframes, params.loops, &stats, prior_held, search_poses);
   r.candidates = stats.candidates;
   r.loops_found = stats.verified;
   std::vector<Pose> before(size_t(keyframes.size()));

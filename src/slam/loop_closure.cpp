@@ -166,33 +166,54 @@ std::vector<PoseGraphEdge> odometryEdges(const KeyframeStore& keyframes, const L
 }
 
 std::vector<PoseGraphEdge> detectLoops(const KeyframeStore& keyframes, const LoopParams& params, LoopStats* stats,
-                                       const std::vector<PriorHeldStretch>& prior_held) {
+                                       const std::vector<PriorHeldStretch>& prior_held,
+                                       const std::vector<Pose>& search_poses) {
   params.validate();
+  if (!search_poses.empty() && int(search_poses.size()) != keyframes.size())
+    throw Error("detectLoops: one search pose per keyframe");
+  // Where to look from: the keyframes' own poses, and the other placement where given (each finds
+  // its own candidates by place and its own odometry's guess).
+  std::vector<Pose> own(size_t(keyframes.size()));
+  for (int i = 0; i < keyframes.size(); ++i) own[size_t(i)] = keyframes[i].T_world_cam;
+  std::vector<const std::vector<Pose>*> placements{&own};
+  if (!search_poses.empty()) placements.push_back(&search_poses);
   std::vector<PoseGraphEdge> loops;
   LoopStats local;
   for (int j = 0; j < keyframes.size(); ++j) {
     const Keyframe& newer = keyframes[j];
-    std::vector<std::pair<float, int>> by_code, by_place;
+    std::vector<std::pair<float, int>> by_code;
+    std::vector<std::vector<std::pair<float, int>>> by_place(placements.size());
     for (int i = 0; i < j; ++i) {
       const Keyframe& older = keyframes[i];
       if (newer.frame_index - older.frame_index < params.min_separation_frames) continue;
       const float d = FernEncoder::dissimilarity(newer.code, older.code);
       if (d <= params.max_code_dissimilarity) by_code.push_back({d, i});
-      const double distance = (newer.T_world_cam.translation() - older.T_world_cam.translation()).norm();
-      if (distance <= params.max_candidate_distance_m &&
-          rotationDeg(newer.T_world_cam.inverse() * older.T_world_cam) <= params.max_candidate_angle_deg)
-        by_place.push_back({float(distance), i});
+      for (size_t p = 0; p < placements.size(); ++p) {
+        const Pose& Tj = (*placements[p])[size_t(j)];
+        const Pose& Ti = (*placements[p])[size_t(i)];
+        const double distance = (Tj.translation() - Ti.translation()).norm();
+        if (distance <= params.max_candidate_distance_m && rotationDeg(Tj.inverse() * Ti) <= params.max_candidate_angle_deg)
+          by_place[p].push_back({float(distance), i});
+      }
     }
     std::sort(by_code.begin(), by_code.end());
-    std::sort(by_place.begin(), by_place.end());
     std::set<int> candidates;
     for (size_t k = 0; k < by_code.size() && int(k) < params.candidates_by_code; ++k) candidates.insert(by_code[k].second);
-    for (size_t k = 0; k < by_place.size() && int(k) < params.candidates_by_place; ++k)
-      candidates.insert(by_place[k].second);
+    for (std::vector<std::pair<float, int>>& nearest : by_place) {
+      std::sort(nearest.begin(), nearest.end());
+      for (size_t k = 0; k < nearest.size() && int(k) < params.candidates_by_place; ++k) candidates.insert(nearest[k].second);
+    }
     for (int i : candidates) {
       const Keyframe& older = keyframes[i];
       ++local.candidates;
-      std::vector<Pose> starts{older.T_world_cam.inverse() * newer.T_world_cam};
+      // The odometry's guess, and the other placement's where it differs (a later map turned);
+      // the point features' start before them.
+      std::vector<Pose> guesses{own[size_t(i)].inverse() * own[size_t(j)]};
+      for (size_t p = 1; p < placements.size(); ++p) {
+        const Pose other = (*placements[p])[size_t(i)].inverse() * (*placements[p])[size_t(j)];
+        if (!other.isApprox(guesses[0], 1e-9)) guesses.push_back(other);
+      }
+      std::vector<Pose> starts = guesses;
       if (const auto features = estimateRelativePose(newer.features, older.features, 20))
         starts.insert(starts.begin(), features->T_target_source);
       std::optional<CloudAlignment> best;
@@ -210,7 +231,8 @@ std::vector<PoseGraphEdge> detectLoops(const KeyframeStore& keyframes, const Loo
       // frames: 33 more loops from slid starts, 32 of them rejected by the pose graph).
       if (!best && params.max_slide_m > 0 &&
           priorHeldFramesBetween(prior_held, older.frame_index, newer.frame_index) >= params.min_held_frames_to_slide)
-        best = alignFromSlidStarts(newer.cloud, older.cloud, starts.back(), params, accepted);
+        for (size_t g = 0; g < guesses.size() && !best; ++g)
+          best = alignFromSlidStarts(newer.cloud, older.cloud, guesses[g], params, accepted);
       if (!best) continue;
       ++local.verified;
       PoseGraphEdge e;

@@ -84,7 +84,11 @@ struct LoopStats {
 std::vector<PoseGraphEdge> odometryEdges(const KeyframeStore& keyframes, const LoopParams& params,
                                          const std::vector<PriorHeldStretch>& prior_held = {});
 // prior_held: where tracking leaned on the motion prior (slid starts are tried only across them).
+// search_poses: one per keyframe, a second placement to look from besides the keyframes' own
+// poses (its own candidates by place and guesses; slam/map_orientation.h turns later maps for
+// it); empty: the keyframes' own poses only.
 std::vector<PoseGraphEdge> detectLoops(const KeyframeStore& keyframes, const LoopParams& params, LoopStats* stats,
-                                       const std::vector<PriorHeldStretch>& prior_held = {});
+                                       const std::vector<PriorHeldStretch>& prior_held = {},
+                                       const std::vector<Pose>& search_poses = {});
 
 }  // namespace vf::slam

@@ -41,12 +41,15 @@ TEST(CorridorLoopClosure, AWalkRoundTheCorridorEndsOnItsStartAndTheLoopCorrectsT
 // the map has never been, and no place within its reach is the right one. The tracker starts a
 // new map there and poses the rest of the walk in it. Written to PNG and read back
 // (scripts/corridor_scan_eval.sh -- --gap 600:45) the walk's return joins the new map to the
-// first by 3 loops: 3.2 cm (3.8 m before new maps, relocalised at a look-alike door 1.5 m off).
-// Here, in memory, 3 loops join it and the walk ends 3.2 cm ATE, 1143 of 1155 frames posed,
-// since the new map starts where the walk's median pace over its last second led and a placement
-// is judged less strictly than a relocalisation (slam/recent_motion.h,
-// TrackerParams::new_map_min_covered_match). Before, it started 25-30 degrees off in heading, no
-// candidate pair at the return aligned, and the map stayed where it was placed: 59.7 cm.
+// first by 32 loops: 3.1 cm (3.8 m before new maps, relocalised at a look-alike door 1.5 m off;
+// its new map placed 13 degrees off, turned 14 for the loop search).
+// Here, in memory, the new map starts where the walk's median pace over its last second led and
+// a placement is judged less strictly than a relocalisation (slam/recent_motion.h,
+// TrackerParams::new_map_min_covered_match); the loop search also looks from it turned to face
+// as the first map's floor and walls do (slam/map_orientation.h): 25 loops join
+// it and the walk ends 3.1 cm ATE, 1143 of 1155 frames posed. Searched for only as placed, 3
+// loops joined it (3.2 cm), or none (59 cm, as the same walk read back from PNG did, 2026-12-07).
+// Before the median pace, it started 25-30 degrees off in heading: 59.7 cm.
 // Searching the first map instead (new_map_after_s 0, the tracker before new maps): 363 cm,
 // 1075 posed, relocalised at a look-alike place.
 TEST(CorridorLoopClosure, AfterAGapTheWalkGoesOnInANewMap) {
@@ -59,9 +62,11 @@ TEST(CorridorLoopClosure, AfterAGapTheWalkGoesOnInANewMap) {
   ASSERT_EQ(run.run({}), Reconstruction::Outcome::Finished);
 
   EXPECT_EQ(run.tracker().maps(), 2);
+  EXPECT_EQ(run.globalReport().maps_turned, 1) << "the new map was searched for only as placed";
   EXPECT_EQ(run.globalReport().maps_joined, 1) << run.globalReport().loops_found << " loops found";
+  EXPECT_GE(run.globalReport().loops_accepted, 10) << "a join that rests on a few loops is a draw";
   const double ate_cm = computeAte(run.trajectory(), source.groundTruth()).rmse_m * 100;
-  EXPECT_LT(ate_cm, 15.0);
+  EXPECT_LT(ate_cm, 10.0);
   EXPECT_GE(int(run.trajectory().size()), source.size() - 15) << "frames lost on the way";
 }
 
