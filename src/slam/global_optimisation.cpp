@@ -14,7 +14,7 @@ std::vector<Pose> optimiseTrajectory(KeyframeStore& keyframes, const std::vector
   if (anchors.size() != poses.size()) throw Error("optimiseTrajectory: one anchor per pose");
   GlobalReport r;
   r.keyframes = keyframes.size();
-  r.maps = keyframes.size() > 0 ? keyframes[keyframes.size() - 1].map + 1 : 1;
+  r.maps = keyframes.maps();
   std::vector<Pose> out = poses;
   if (!params.loop_closure || keyframes.size() < 3) {
     if (report) *report = r;

@@ -33,6 +33,14 @@ class KeyframeStore {
   // when it is 0 or more.
   std::vector<int> nearest(const FrameCode& code, int k, int map = -1) const;
   int size() const { return int(keyframes_.size()); }
+  // How many maps the keyframes were tracked in (maps are numbered in order; 1 when empty), and
+  // the index of the first keyframe of `map` (size() when it made none).
+  int maps() const { return keyframes_.empty() ? 1 : keyframes_.back().map + 1; }
+  int firstOfMap(int map) const {
+    int i = 0;
+    while (i < size() && keyframes_[size_t(i)].map != map) ++i;
+    return i;
+  }
   const Keyframe& operator[](int i) const { return keyframes_[size_t(i)]; }
   Keyframe& operator[](int i) { return keyframes_[size_t(i)]; }
 

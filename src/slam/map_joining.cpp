@@ -19,10 +19,9 @@ JoinedMaps joinMaps(const KeyframeStore& keyframes, const std::vector<Pose>& pos
   out.keep_loop.assign(loops.size(), true);
   const int n = keyframes.size();
   if (n == 0) return out;
-  out.maps = keyframes[n - 1].map + 1;
+  out.maps = keyframes.maps();
   for (int map = 1; map < out.maps; ++map) {
-    int first = 0;  // the map's first keyframe
-    while (first < n && keyframes[first].map != map) ++first;
+    const int first = keyframes.firstOfMap(map);
     if (first == n) continue;  // a map that made no keyframe
     // Each loop from an older map into this one says where its first keyframe lies.
     std::vector<size_t> into;

@@ -9,6 +9,7 @@ namespace vf::slam {
 namespace {
 
 double cosDeg(double deg) { return std::cos(deg * M_PI / 180.0); }
+double angleDeg(const Eigen::Matrix3d& R) { return Eigen::AngleAxisd(R).angle() * 180.0 / M_PI; }
 
 // Every stride-th normal of the keyframes of maps [first_map, last_map], in the world frame.
 std::vector<Eigen::Vector3d> worldNormals(const KeyframeStore& keyframes, const std::vector<Pose>& poses, int first_map,
@@ -93,7 +94,7 @@ std::optional<Eigen::Matrix3d> rotationOntoDirections(const std::vector<Eigen::V
     D(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1.0 : 1.0;
     R = svd.matrixU() * D * svd.matrixV().transpose();
   }
-  if (Eigen::AngleAxisd(R).angle() * 180.0 / M_PI > max_deg) return std::nullopt;
+  if (angleDeg(R) > max_deg) return std::nullopt;
   return R;
 }
 
@@ -102,15 +103,13 @@ std::vector<Pose> orientLaterMaps(const KeyframeStore& keyframes, double min_tur
   std::vector<Pose> poses(static_cast<size_t>(n));
   for (int i = 0; i < n; ++i) poses[size_t(i)] = keyframes[i].T_world_cam;
   int count = 0;
-  const int maps = n > 0 ? keyframes[n - 1].map + 1 : 0;
-  for (int map = 1; map < maps; ++map) {
-    int first = 0;  // the map's first keyframe
-    while (first < n && keyframes[first].map != map) ++first;
+  for (int map = 1; map < keyframes.maps(); ++map) {
+    const int first = keyframes.firstOfMap(map);
     if (first == n) continue;  // a map that made no keyframe
     const std::vector<Eigen::Vector3d> directions =
         dominantDirections(worldNormals(keyframes, poses, 0, map - 1, kNormalStride));
     const auto R = rotationOntoDirections(directions, worldNormals(keyframes, poses, map, map, kNormalStride), kMaxMapTurnDeg);
-    if (!R || Eigen::AngleAxisd(*R).angle() * 180.0 / M_PI < min_turn_deg) continue;
+    if (!R || angleDeg(*R) < min_turn_deg) continue;
     Pose turn = Pose::Identity();
     turn.linear() = *R;
     const Eigen::Vector3d about = poses[size_t(first)].translation();
